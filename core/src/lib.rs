@@ -1,0 +1,70 @@
+//! # Strata: a deterministic sampling core for ray tracers
+//!
+//! Strata is the sampling and tracing core of a renderer, small enough to
+//! link into any of them, firmware included: `no_std`, no allocation, no
+//! `unsafe`. Every function takes values or slices and writes into buffers
+//! the caller owns.
+//!
+//! ## The contract
+//!
+//! A pixel sample is a pure function of (scene, camera, sampler kind, seed,
+//! pixel, sample index). Strata turns those numbers into values with no
+//! global state and no dependence on thread count, tile size or order, or
+//! how the samples of a pixel were split into runs:
+//!
+//! - every pixel sample gets a fresh PCG32 whose state is a documented hash
+//!   of `(seed, px, py, index)` ([`rng`]); nothing advances a shared
+//!   generator;
+//! - dimensions are consumed in a fixed order ([`sampler`]);
+//! - no multiply-add is fused and transcendental functions come from
+//!   `libm`, so the same inputs give the same bits on every x86-64 CPU.
+//!
+//! ## Modules
+//!
+//! | module | what |
+//! |---|---|
+//! | [`rng`] | per-sample stream derivation, `u32 → f32` in `[0, 1)` |
+//! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`] |
+//! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone; [`mapping::rejection`] keeps the course's methods |
+//! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
+//!
+//! ## Example
+//!
+//! One pixel sample: a position in the pixel, then a cosine-weighted bounce
+//! direction around a surface normal, with its pdf.
+//!
+//! ```
+//! use glam::{UVec2, Vec3};
+//! use strata::{mapping, onb::Onb, Sampler, Stratified};
+//!
+//! let mut sampler = Stratified::new(16, 2026).expect("spp > 0");
+//! sampler.start_pixel_sample(UVec2::new(120, 45), 3);
+//! let offset = sampler.pixel_2d(); // in [0, 1)² of the pixel
+//! assert!(offset.x < 1.0 && offset.y < 1.0);
+//!
+//! let normal = Vec3::new(0.0, 1.0, 0.0);
+//! let local = mapping::sample_cosine_hemisphere(sampler.next_2d());
+//! let pdf = mapping::pdf_cosine_hemisphere(local);
+//! let world = Onb::from_normal(normal).to_world(local);
+//! assert!(world.dot(normal) >= -1e-6 && pdf >= 0.0);
+//! assert!((pdf - world.dot(normal).max(0.0) / core::f32::consts::PI).abs() < 1e-5);
+//! ```
+//!
+//! ## Limitations
+//!
+//! - `f32` only.
+//! - The course's quads and triangles are out of scope: spheres only.
+//! - Rejection samplers ([`mapping::rejection`]) consume a random count of
+//!   values, so they take their own generator and never a pixel's sampler.
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs, missing_debug_implementations)]
+#![warn(clippy::missing_inline_in_public_items)]
+
+pub mod mapping;
+pub mod onb;
+pub mod rng;
+pub mod sampler;
+
+pub use onb::Onb;
+pub use sampler::{Independent, Sampler, Stratified, UniformGrid};

@@ -1,0 +1,555 @@
+//! Warps from the unit square to spheres, hemispheres, disks and cones,
+//! each as a triad: `sample_X`, `pdf_X`, `invert_X`, in that order.
+//!
+//! # Conventions
+//!
+//! - `u` is a uniform sample in `[0, 1)²`; inputs outside it are mapped by
+//!   the same formula (no clamping), so they land off the nominal domain.
+//! - Directions are unit vectors in a local frame whose `+z` is the pole or
+//!   normal; use [`crate::onb::Onb`] to take them to the world.
+//! - A pdf takes the sampled value, so `pdf_x(sample_x(u))` always
+//!   type-checks. Direction pdfs are per steradian, disk pdfs per unit area.
+//!   A pdf is `0` outside the support, and `0` for a NaN argument (the χ²
+//!   tests rely on this to catch samples landing where the pdf says none
+//!   can).
+//! - An inverse takes a point of the domain and returns the `u` that maps to
+//!   it, in `[0, 1)²`; it is the exact inverse up to rounding.
+//! - NaN in `u` gives NaN out of `sample_*`; nothing panics.
+//! - Transcendental functions come from `libm` and no multiply-add is fused,
+//!   so results are the same bits on every CPU.
+//!
+//! # Sources
+//!
+//! Shirley and Chiu 1997, *A Low Distortion Map Between Disk and Square*
+//! (concentric disk); Malley's method (cosine hemisphere by lifting a disk
+//! point); Pharr, Jakob and Humphreys, *Physically Based Rendering* 4th ed.,
+//! A.5 (sphere, hemisphere, cone, inverses). The course's rejection methods
+//! are in [`rejection`], for comparison.
+
+use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
+
+use glam::{Vec2, Vec3};
+
+use crate::rng::ONE_MINUS_EPSILON;
+
+pub mod rejection;
+
+/// `1 / (4π)`.
+const INV_4PI: f32 = FRAC_1_PI / 4.0;
+/// `1 / (2π)`.
+const INV_2PI: f32 = FRAC_1_PI / 2.0;
+
+/// `sqrt(max(x, 0))`: rounding can push `1 - z²` a hair below zero. Unlike
+/// `f32::max`, it keeps a NaN a NaN.
+#[inline]
+fn safe_sqrt(x: f32) -> f32 {
+    libm::sqrtf(if x < 0.0 { 0.0 } else { x })
+}
+
+/// The azimuth of `(x, y)` as a fraction of a turn, in `[0, 1)`.
+#[inline]
+fn azimuth_fraction(x: f32, y: f32) -> f32 {
+    let mut phi = libm::atan2f(y, x);
+    if phi < 0.0 {
+        phi += TAU;
+    }
+    (phi * INV_2PI).clamp(0.0, ONE_MINUS_EPSILON)
+}
+
+/// A point at azimuth `2π · u` and height `z` on the unit sphere.
+#[inline]
+fn spherical(z: f32, u_phi: f32) -> Vec3 {
+    let r = safe_sqrt(1.0 - z * z);
+    let (sin, cos) = libm::sincosf(TAU * u_phi);
+    Vec3::new(r * cos, r * sin, z)
+}
+
+// ---------------------------------------------------------------- sphere
+
+/// A direction uniform on the unit sphere: `z = 1 - 2u₀`, azimuth `2π u₁`.
+///
+/// See also [`pdf_uniform_sphere`], [`invert_uniform_sphere`].
+///
+/// ```
+/// use glam::Vec2;
+/// use strata::mapping::*;
+/// let w = sample_uniform_sphere(Vec2::new(0.3, 0.8));
+/// assert!((w.length() - 1.0).abs() < 1e-6);
+/// assert!((invert_uniform_sphere(w) - Vec2::new(0.3, 0.8)).abs().max_element() < 1e-5);
+/// ```
+#[doc(alias = "square_to_uniform_sphere")]
+#[inline]
+#[must_use]
+pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
+    spherical(1.0 - 2.0 * u.x, u.y)
+}
+
+/// The density of [`sample_uniform_sphere`]: `1 / (4π)` per steradian
+/// (`0` for a NaN direction).
+#[doc(alias = "square_to_uniform_sphere_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_uniform_sphere(w: Vec3) -> f32 {
+    if w.is_nan() { 0.0 } else { INV_4PI }
+}
+
+/// The inverse of [`sample_uniform_sphere`].
+#[doc(alias = "uniform_sphere_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_uniform_sphere(w: Vec3) -> Vec2 {
+    let u0 = ((1.0 - w.z) * 0.5).clamp(0.0, ONE_MINUS_EPSILON);
+    Vec2::new(u0, azimuth_fraction(w.x, w.y))
+}
+
+// ------------------------------------------------------------ hemisphere
+
+/// A direction uniform on the hemisphere `z ≥ 0`: `z = u₀`, azimuth `2π u₁`.
+///
+/// See also [`pdf_uniform_hemisphere`], [`invert_uniform_hemisphere`].
+///
+/// ```
+/// use glam::Vec2;
+/// use strata::mapping::*;
+/// let w = sample_uniform_hemisphere(Vec2::new(0.25, 0.5));
+/// assert!(w.z >= 0.0 && (w.length() - 1.0).abs() < 1e-6);
+/// assert_eq!(pdf_uniform_hemisphere(w), 0.5 / core::f32::consts::PI);
+/// ```
+#[doc(alias = "square_to_uniform_hemisphere")]
+#[inline]
+#[must_use]
+pub fn sample_uniform_hemisphere(u: Vec2) -> Vec3 {
+    spherical(u.x, u.y)
+}
+
+/// The density of [`sample_uniform_hemisphere`]: `1 / (2π)` per steradian
+/// where `w.z ≥ 0`, else `0` (and `0` for NaN).
+#[doc(alias = "square_to_uniform_hemisphere_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_uniform_hemisphere(w: Vec3) -> f32 {
+    if w.z >= 0.0 && !w.is_nan() {
+        INV_2PI
+    } else {
+        0.0
+    }
+}
+
+/// The inverse of [`sample_uniform_hemisphere`].
+#[doc(alias = "uniform_hemisphere_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_uniform_hemisphere(w: Vec3) -> Vec2 {
+    Vec2::new(
+        w.z.clamp(0.0, ONE_MINUS_EPSILON),
+        azimuth_fraction(w.x, w.y),
+    )
+}
+
+// ----------------------------------------------------- cosine hemisphere
+
+/// A cosine-weighted direction on the hemisphere `z ≥ 0` (Malley's method:
+/// a [concentric-disk](sample_concentric_disk) point lifted to the
+/// hemisphere). The square's centre maps to the pole.
+///
+/// See also [`pdf_cosine_hemisphere`], [`invert_cosine_hemisphere`].
+///
+/// ```
+/// use glam::{Vec2, Vec3};
+/// use strata::mapping::*;
+/// assert_eq!(sample_cosine_hemisphere(Vec2::splat(0.5)), Vec3::Z);
+/// let u = Vec2::new(0.1, 0.7);
+/// let w = sample_cosine_hemisphere(u);
+/// assert!(w.z >= 0.0 && (w.length() - 1.0).abs() < 1e-6);
+/// assert!((invert_cosine_hemisphere(w) - u).abs().max_element() < 1e-5);
+/// ```
+#[doc(alias = "square_to_cosine_hemisphere")]
+#[inline]
+#[must_use]
+pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = sample_concentric_disk(u);
+    let z = safe_sqrt(1.0 - d.x * d.x - d.y * d.y);
+    Vec3::new(d.x, d.y, z)
+}
+
+/// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
+/// steradian where `w.z ≥ 0`, else `0` (and `0` for NaN).
+#[doc(alias = "square_to_cosine_hemisphere_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_cosine_hemisphere(w: Vec3) -> f32 {
+    if w.z >= 0.0 && !w.is_nan() {
+        w.z * FRAC_1_PI
+    } else {
+        0.0
+    }
+}
+
+/// The inverse of [`sample_cosine_hemisphere`]: the concentric-disk inverse
+/// of `(w.x, w.y)`.
+#[doc(alias = "cosine_hemisphere_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_cosine_hemisphere(w: Vec3) -> Vec2 {
+    invert_concentric_disk(Vec2::new(w.x, w.y))
+}
+
+// ------------------------------------------------------- concentric disk
+
+/// A point uniform on the unit disk by Shirley and Chiu's concentric map,
+/// which takes squares around the centre to rings and keeps strata compact.
+/// The square's centre maps to the origin.
+///
+/// See also [`pdf_concentric_disk`], [`invert_concentric_disk`].
+///
+/// ```
+/// use glam::Vec2;
+/// use strata::mapping::*;
+/// assert_eq!(sample_concentric_disk(Vec2::splat(0.5)), Vec2::ZERO);
+/// let p = sample_concentric_disk(Vec2::new(1.0, 0.5)); // right edge
+/// assert!((p - Vec2::X).length() < 1e-6);
+/// ```
+#[doc(alias = "square_to_uniform_disk_concentric")]
+#[inline]
+#[must_use]
+pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
+    let a = 2.0 * u.x - 1.0;
+    let b = 2.0 * u.y - 1.0;
+    if a == 0.0 && b == 0.0 {
+        return Vec2::ZERO;
+    }
+    // Which of the four triangles of the square holds (a, b) decides
+    // whether a or b is the radius.
+    let (r, theta) = if a.abs() > b.abs() {
+        (a, FRAC_PI_4 * (b / a))
+    } else {
+        (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
+    };
+    let (sin, cos) = libm::sincosf(theta);
+    Vec2::new(r * cos, r * sin)
+}
+
+/// The density of [`sample_concentric_disk`]: `1 / π` per unit area inside
+/// the closed unit disk, else `0` (and `0` for NaN).
+#[doc(alias = "square_to_uniform_disk_concentric_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_concentric_disk(p: Vec2) -> f32 {
+    if p.length_squared() <= 1.0 {
+        FRAC_1_PI
+    } else {
+        0.0
+    }
+}
+
+/// The inverse of [`sample_concentric_disk`].
+#[doc(alias = "uniform_disk_to_square_concentric")]
+#[inline]
+#[must_use]
+pub fn invert_concentric_disk(p: Vec2) -> Vec2 {
+    let r = libm::sqrtf(p.x * p.x + p.y * p.y);
+    let mut theta = libm::atan2f(p.y, p.x);
+    // Put theta in [-π/4, 7π/4) so each wedge is one interval.
+    if theta < -FRAC_PI_4 {
+        theta += TAU;
+    }
+    let (a, b) = if theta < FRAC_PI_4 {
+        // Right wedge: radius a, theta = π/4 · b/a.
+        (r, theta * r / FRAC_PI_4)
+    } else if theta < 3.0 * FRAC_PI_4 {
+        // Top wedge: radius b, theta = π/2 − π/4 · a/b.
+        (-(theta - FRAC_PI_2) * r / FRAC_PI_4, r)
+    } else if theta < 5.0 * FRAC_PI_4 {
+        // Left wedge: radius −a, theta = π + π/4 · b/a.
+        (-r, (theta - PI) * -r / FRAC_PI_4)
+    } else {
+        // Bottom wedge: radius −b, theta = 3π/2 − π/4 · a/b.
+        (-(theta - 3.0 * FRAC_PI_2) * -r / FRAC_PI_4, -r)
+    };
+    Vec2::new(
+        ((a + 1.0) * 0.5).clamp(0.0, ONE_MINUS_EPSILON),
+        ((b + 1.0) * 0.5).clamp(0.0, ONE_MINUS_EPSILON),
+    )
+}
+
+// ------------------------------------------------------------ polar disk
+
+/// A point uniform on the unit disk in polar form: `r = sqrt(u₀)`, angle
+/// `2π u₁`. Simple, but it stretches strata near the centre; see
+/// [`sample_concentric_disk`].
+///
+/// See also [`pdf_polar_disk`], [`invert_polar_disk`].
+///
+/// ```
+/// use glam::Vec2;
+/// use strata::mapping::*;
+/// let u = Vec2::new(0.49, 0.3);
+/// let p = sample_polar_disk(u);
+/// assert!((p.length() - 0.7).abs() < 1e-6);
+/// assert!((invert_polar_disk(p) - u).abs().max_element() < 1e-5);
+/// ```
+#[doc(alias = "square_to_uniform_disk")]
+#[inline]
+#[must_use]
+pub fn sample_polar_disk(u: Vec2) -> Vec2 {
+    let r = safe_sqrt(u.x);
+    let (sin, cos) = libm::sincosf(TAU * u.y);
+    Vec2::new(r * cos, r * sin)
+}
+
+/// The density of [`sample_polar_disk`]: `1 / π` per unit area inside the
+/// closed unit disk, else `0` (and `0` for NaN).
+#[doc(alias = "square_to_uniform_disk_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_polar_disk(p: Vec2) -> f32 {
+    pdf_concentric_disk(p)
+}
+
+/// The inverse of [`sample_polar_disk`].
+#[doc(alias = "uniform_disk_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_polar_disk(p: Vec2) -> Vec2 {
+    Vec2::new(
+        (p.x * p.x + p.y * p.y).clamp(0.0, ONE_MINUS_EPSILON),
+        azimuth_fraction(p.x, p.y),
+    )
+}
+
+// ---------------------------------------------------------- uniform cone
+
+/// A direction uniform in the cone of half-angle `acos(cos_theta_max)`
+/// around `+z`: `cos θ = 1 − u₀ (1 − cos θmax)`, azimuth `2π u₁`. This is
+/// how a spherical light is sampled by the solid angle it subtends.
+/// `cos_theta_max` is clamped to `[-1, 1]` (−1 gives the whole sphere, 1 a
+/// zero-width cone whose every sample is `+z`).
+///
+/// See also [`pdf_uniform_cone`], [`invert_uniform_cone`].
+///
+/// ```
+/// use glam::Vec2;
+/// use strata::mapping::*;
+/// let cos_max = 0.9;
+/// let w = sample_uniform_cone(Vec2::new(0.999, 0.2), cos_max);
+/// assert!(w.z >= cos_max && (w.length() - 1.0).abs() < 1e-6);
+/// let area = core::f32::consts::TAU * (1.0 - cos_max);
+/// assert!((pdf_uniform_cone(w, cos_max) * area - 1.0).abs() < 1e-5);
+/// ```
+#[doc(alias = "square_to_uniform_cone")]
+#[inline]
+#[must_use]
+pub fn sample_uniform_cone(u: Vec2, cos_theta_max: f32) -> Vec3 {
+    let c = cos_theta_max.clamp(-1.0, 1.0);
+    // (1 − u₀) + u₀ c rather than 1 − u₀(1 − c): it returns exactly c at
+    // u₀ = 1 and exactly 1 at u₀ = 0.
+    let z = (1.0 - u.x) + u.x * c;
+    spherical(z, u.y)
+}
+
+/// The density of [`sample_uniform_cone`]: `1 / (2π (1 − cos θmax))` per
+/// steradian inside the cone (`w.z ≥ cos θmax`), else `0` (and `0` for NaN).
+/// For a zero-width cone (`cos_theta_max ≥ 1`) it is `+∞` on the axis: the
+/// distribution is a delta.
+#[doc(alias = "square_to_uniform_cone_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_uniform_cone(w: Vec3, cos_theta_max: f32) -> f32 {
+    let c = cos_theta_max.clamp(-1.0, 1.0);
+    if w.z >= c && !w.is_nan() {
+        INV_2PI / (1.0 - c)
+    } else {
+        0.0
+    }
+}
+
+/// The inverse of [`sample_uniform_cone`]; for a zero-width cone every
+/// direction inverts to `u₀ = 0`.
+#[doc(alias = "uniform_cone_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_uniform_cone(w: Vec3, cos_theta_max: f32) -> Vec2 {
+    let c = cos_theta_max.clamp(-1.0, 1.0);
+    let width = 1.0 - c;
+    let u0 = if width > 0.0 {
+        (1.0 - w.z) / width
+    } else {
+        0.0
+    };
+    Vec2::new(u0.clamp(0.0, ONE_MINUS_EPSILON), azimuth_fraction(w.x, w.y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid over [0, 1)² kept `margin` away from the borders, where an
+    /// inverse is ambiguous (azimuth 0 vs 1, the disk's centre).
+    fn grid(n: u32, margin: f32) -> impl Iterator<Item = Vec2> {
+        (0..n).flat_map(move |i| {
+            (0..n).map(move |j| {
+                let t = |k: u32| margin + (1.0 - 2.0 * margin) * k as f32 / (n - 1) as f32;
+                Vec2::new(t(i), t(j))
+            })
+        })
+    }
+
+    fn assert_round_trip(name: &str, f: impl Fn(Vec2) -> Vec2, tol: f32) {
+        for u in grid(41, 1e-3) {
+            let back = f(u);
+            assert!(
+                (back - u).abs().max_element() < tol,
+                "{name}: {u} -> {back} (|Δ| {})",
+                (back - u).abs().max_element()
+            );
+        }
+    }
+
+    #[test]
+    fn uniform_sphere_round_trip() {
+        assert_round_trip(
+            "uniform sphere",
+            |u| invert_uniform_sphere(sample_uniform_sphere(u)),
+            2e-4,
+        );
+    }
+
+    #[test]
+    fn uniform_hemisphere_round_trip() {
+        assert_round_trip(
+            "uniform hemisphere",
+            |u| invert_uniform_hemisphere(sample_uniform_hemisphere(u)),
+            2e-4,
+        );
+    }
+
+    #[test]
+    fn cosine_hemisphere_round_trip() {
+        assert_round_trip(
+            "cosine hemisphere",
+            |u| invert_cosine_hemisphere(sample_cosine_hemisphere(u)),
+            2e-4,
+        );
+    }
+
+    #[test]
+    fn concentric_disk_round_trip() {
+        assert_round_trip(
+            "concentric disk",
+            |u| invert_concentric_disk(sample_concentric_disk(u)),
+            2e-4,
+        );
+    }
+
+    #[test]
+    fn polar_disk_round_trip() {
+        assert_round_trip(
+            "polar disk",
+            |u| invert_polar_disk(sample_polar_disk(u)),
+            2e-4,
+        );
+    }
+
+    #[test]
+    fn uniform_cone_round_trip() {
+        for c in [-0.5f32, 0.0, 0.5, 0.99] {
+            assert_round_trip(
+                "uniform cone",
+                |u| invert_uniform_cone(sample_uniform_cone(u, c), c),
+                2e-3,
+            );
+        }
+    }
+
+    #[test]
+    fn outputs_lie_on_their_domains() {
+        for u in grid(64, 0.0) {
+            let s = sample_uniform_sphere(u);
+            assert!((s.length() - 1.0).abs() < 1e-6, "{u}");
+            let h = sample_uniform_hemisphere(u);
+            assert!(h.z >= 0.0 && (h.length() - 1.0).abs() < 1e-6, "{u}");
+            let c = sample_cosine_hemisphere(u);
+            assert!(c.z >= 0.0 && (c.length() - 1.0).abs() < 1e-6, "{u}");
+            assert!(sample_concentric_disk(u).length() <= 1.0 + 1e-6, "{u}");
+            assert!(sample_polar_disk(u).length() <= 1.0 + 1e-6, "{u}");
+            let k = sample_uniform_cone(u, 0.7);
+            assert!(k.z >= 0.7 && (k.length() - 1.0).abs() < 1e-6, "{u}");
+            assert!(pdf_cosine_hemisphere(c) >= 0.0);
+            assert!(pdf_uniform_cone(k, 0.7) > 0.0);
+        }
+    }
+
+    #[test]
+    fn pinned_points() {
+        // Square centre to pole / origin; corners to the rim.
+        assert_eq!(sample_cosine_hemisphere(Vec2::splat(0.5)), Vec3::Z);
+        assert_eq!(sample_uniform_sphere(Vec2::new(0.0, 0.0)), Vec3::Z);
+        assert_eq!(sample_uniform_sphere(Vec2::new(1.0, 0.0)), -Vec3::Z);
+        assert_eq!(sample_uniform_hemisphere(Vec2::new(1.0, 0.0)), Vec3::Z);
+        assert_eq!(sample_uniform_cone(Vec2::new(0.0, 0.3), 0.2), Vec3::Z);
+        assert_eq!(sample_uniform_cone(Vec2::new(1.0, 0.0), 0.2).z, 0.2);
+        for corner in [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE] {
+            let p = sample_concentric_disk(corner);
+            assert!((p.length() - 1.0).abs() < 1e-6, "{corner} -> {p}");
+            assert!(sample_cosine_hemisphere(corner).z.abs() < 1e-3);
+        }
+        assert_eq!(invert_concentric_disk(Vec2::ZERO), Vec2::splat(0.5));
+    }
+
+    #[test]
+    fn pdfs_are_zero_off_support_and_for_nan() {
+        let below = Vec3::new(0.0, 0.6, -0.8);
+        assert_eq!(pdf_uniform_hemisphere(below), 0.0);
+        assert_eq!(pdf_cosine_hemisphere(below), 0.0);
+        assert_eq!(pdf_uniform_cone(Vec3::new(0.6, 0.0, 0.8), 0.9), 0.0);
+        assert_eq!(pdf_concentric_disk(Vec2::new(0.8, 0.8)), 0.0);
+        assert_eq!(pdf_polar_disk(Vec2::new(1.0, 0.1)), 0.0);
+        let nan3 = Vec3::new(f32::NAN, 0.0, 1.0);
+        let nan2 = Vec2::new(0.0, f32::NAN);
+        assert_eq!(pdf_uniform_sphere(nan3), 0.0);
+        assert_eq!(pdf_uniform_hemisphere(nan3), 0.0);
+        assert_eq!(pdf_cosine_hemisphere(nan3), 0.0);
+        assert_eq!(pdf_uniform_cone(nan3, 0.5), 0.0);
+        assert_eq!(pdf_concentric_disk(nan2), 0.0);
+        assert_eq!(pdf_polar_disk(nan2), 0.0);
+    }
+
+    #[test]
+    fn nan_sample_gives_nan_not_panic() {
+        let u = Vec2::new(f32::NAN, 0.5);
+        assert!(sample_uniform_sphere(u).is_nan());
+        assert!(sample_uniform_hemisphere(u).is_nan());
+        assert!(sample_cosine_hemisphere(u).is_nan());
+        assert!(sample_concentric_disk(u).is_nan());
+        assert!(sample_polar_disk(u).is_nan());
+        assert!(sample_uniform_cone(u, 0.5).is_nan());
+    }
+
+    #[test]
+    fn degenerate_cone() {
+        // A zero-width cone: a delta on +z with an infinite density.
+        let w = sample_uniform_cone(Vec2::new(0.7, 0.3), 1.0);
+        assert_eq!(w, Vec3::Z);
+        assert_eq!(pdf_uniform_cone(w, 1.0), f32::INFINITY);
+        assert_eq!(invert_uniform_cone(w, 1.0).x, 0.0);
+        // Out-of-range cosines are clamped: −2 is the whole sphere.
+        assert_eq!(pdf_uniform_cone(-Vec3::Z, -2.0), INV_4PI);
+    }
+
+    #[test]
+    fn inverses_stay_in_unit_square() {
+        for w in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(1.0, -1e-9, 0.0)] {
+            for u in [
+                invert_uniform_sphere(w),
+                invert_uniform_hemisphere(w),
+                invert_cosine_hemisphere(w),
+                invert_uniform_cone(w, 0.0),
+            ] {
+                assert!(
+                    u.cmpge(Vec2::ZERO).all() && u.cmplt(Vec2::ONE).all(),
+                    "{w} -> {u}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! A `no_std` consumer of `strata`: it exercises each module so the linker
+//! keeps them, and supplies the panic handler a `no_std` library needs.
+#![no_std]
+
+use core::panic::PanicInfo;
+
+use glam::{UVec2, Vec3};
+use strata::{Onb, Sampler, Stratified, mapping};
+
+/// The cosine-weighted bounce of one pixel sample, as world x, y, z.
+#[unsafe(no_mangle)]
+pub extern "C" fn strata_check(px: u32, py: u32, index: u32, out: &mut [f32; 3]) -> bool {
+    let Some(mut sampler) = Stratified::new(16, 1) else {
+        return false;
+    };
+    sampler.start_pixel_sample(UVec2::new(px, py), index);
+    let local = mapping::sample_cosine_hemisphere(sampler.next_2d());
+    let world = Onb::from_normal(Vec3::Y).to_world(local);
+    *out = world.to_array();
+    true
+}
+
+#[panic_handler]
+fn panic(_: &PanicInfo) -> ! {
+    loop {}
+}
