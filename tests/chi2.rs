@@ -1,0 +1,192 @@
+//! χ² goodness-of-fit of every mapping against its own pdf: 10⁶ samples
+//! from a fixed-seed PCG32, α = 1 % across the whole file with a Šidák
+//! correction (see `support/chi2.rs`). Each test also checks that the pdf
+//! integrates to 1 over its domain.
+
+mod support;
+
+use glam::{UVec2, Vec2, Vec3};
+use strata::mapping::{self, rejection};
+use strata::rng::{Pcg32, STREAM, next_f32};
+use strata::{Onb, Sampler, Stratified};
+use support::chi2::{Chi2, Domain, chi2_sf, gamma_q};
+
+fn v3(w: Vec3) -> [f64; 3] {
+    [w.x as f64, w.y as f64, w.z as f64]
+}
+fn v2(p: Vec2) -> [f64; 3] {
+    [p.x as f64, p.y as f64, 0.0]
+}
+fn w3(p: [f64; 3]) -> Vec3 {
+    Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32)
+}
+fn w2(p: [f64; 3]) -> Vec2 {
+    Vec2::new(p[0] as f32, p[1] as f32)
+}
+fn uniform(rng: &mut Pcg32) -> Vec2 {
+    Vec2::new(next_f32(rng), next_f32(rng))
+}
+
+const SPHERE_RES: (usize, usize) = (51, 101);
+const DISK_RES: (usize, usize) = (51, 101);
+const CONE_COS: f32 = 0.6;
+const WIDE_CONE_COS: f32 = -0.3;
+/// A normal away from every axis, for the ONB tests.
+fn tilted() -> Vec3 {
+    Vec3::new(0.3, -0.5, 0.8).normalize()
+}
+
+/// Declares one `#[test]` per case and counts them for the Šidák
+/// correction. Each case: name, domain, resolution, a sampler taking the
+/// test's PCG32, and the claimed pdf.
+macro_rules! chi2_tests {
+    ($($name:ident: $domain:expr, $res:expr, |$rng:ident| $sample:expr, |$p:ident| $pdf:expr;)*) => {
+        const TEST_COUNT: usize = [$(stringify!($name)),*].len();
+        $(
+            #[test]
+            fn $name() {
+                let seed = support::seed_for(stringify!($name));
+                let mut $rng = Pcg32::new(seed, STREAM);
+                let test = Chi2::new(stringify!($name), $domain, $res, TEST_COUNT);
+                let outcome = test.run(|| $sample, |$p: [f64; 3]| $pdf);
+                eprintln!("{outcome:?}");
+                outcome.assert_passed();
+                assert!(
+                    (outcome.integral - 1.0).abs() < 2e-3,
+                    "{}: pdf integrates to {}", stringify!($name), outcome.integral
+                );
+            }
+        )*
+    };
+}
+
+chi2_tests! {
+    uniform_sphere_chi2: Domain::SPHERE, SPHERE_RES,
+        |rng| v3(mapping::sample_uniform_sphere(uniform(&mut rng))),
+        |p| mapping::pdf_uniform_sphere(w3(p)) as f64;
+    uniform_hemisphere_chi2: Domain::HEMISPHERE, SPHERE_RES,
+        |rng| v3(mapping::sample_uniform_hemisphere(uniform(&mut rng))),
+        |p| mapping::pdf_uniform_hemisphere(w3(p)) as f64;
+    cosine_hemisphere_chi2: Domain::HEMISPHERE, SPHERE_RES,
+        |rng| v3(mapping::sample_cosine_hemisphere(uniform(&mut rng))),
+        |p| mapping::pdf_cosine_hemisphere(w3(p)) as f64;
+    concentric_disk_chi2: Domain::Disk, DISK_RES,
+        |rng| v2(mapping::sample_concentric_disk(uniform(&mut rng))),
+        |p| mapping::pdf_concentric_disk(w2(p)) as f64;
+    polar_disk_chi2: Domain::Disk, DISK_RES,
+        |rng| v2(mapping::sample_polar_disk(uniform(&mut rng))),
+        |p| mapping::pdf_polar_disk(w2(p)) as f64;
+    uniform_cone_chi2: Domain::Sphere { z_min: CONE_COS as f64, z_max: 1.0 }, SPHERE_RES,
+        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), CONE_COS)),
+        |p| mapping::pdf_uniform_cone(w3(p), CONE_COS) as f64;
+    uniform_cone_wide_chi2: Domain::Sphere { z_min: WIDE_CONE_COS as f64, z_max: 1.0 }, SPHERE_RES,
+        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), WIDE_CONE_COS)),
+        |p| mapping::pdf_uniform_cone(w3(p), WIDE_CONE_COS) as f64;
+    // The ONB carries the cosine lobe to a tilted normal intact.
+    cosine_hemisphere_onb_chi2: Domain::SPHERE, SPHERE_RES,
+        |rng| v3(Onb::from_normal(tilted()).to_world(
+            mapping::sample_cosine_hemisphere(uniform(&mut rng)))),
+        |p| (w3(p).dot(tilted()).max(0.0) / core::f32::consts::PI) as f64;
+    cosine_hemisphere_course_onb_chi2: Domain::SPHERE, SPHERE_RES,
+        |rng| v3(Onb::from_normal_axis_switch(tilted()).to_world(
+            mapping::sample_cosine_hemisphere(uniform(&mut rng)))),
+        |p| (w3(p).dot(tilted()).max(0.0) / core::f32::consts::PI) as f64;
+    // Samples of a stratified sampler, across pixels, are uniform overall.
+    stratified_cosine_hemisphere_chi2: Domain::HEMISPHERE, SPHERE_RES,
+        |rng| {
+            let k = rng.next_u32();
+            let mut s = Stratified::new(16, 11).unwrap();
+            s.start_pixel_sample(UVec2::new(k >> 20, (k >> 8) & 0xfff), k & 15);
+            let _ = s.next_1d();
+            v3(mapping::sample_cosine_hemisphere(s.next_2d()))
+        },
+        |p| mapping::pdf_cosine_hemisphere(w3(p)) as f64;
+    rejection_unit_disk_chi2: Domain::Disk, DISK_RES,
+        |rng| v2(rejection::rejection_unit_disk(&mut rng)),
+        |p| mapping::pdf_concentric_disk(w2(p)) as f64;
+    rejection_unit_sphere_chi2: Domain::SPHERE, SPHERE_RES,
+        |rng| v3(rejection::rejection_unit_sphere(&mut rng)),
+        |p| mapping::pdf_uniform_sphere(w3(p)) as f64;
+    // Uniform in the ball: |p|³ is uniform on [0, 1).
+    rejection_unit_ball_radius_chi2: Domain::Line { x0: 0.0, x1: 1.0 }, (200, 1),
+        |rng| [(rejection::rejection_unit_ball(&mut rng).length() as f64).powi(3), 0.0, 0.0],
+        |p| if (0.0..=1.0).contains(&p[0]) { 1.0 } else { 0.0 };
+    rejection_uniform_hemisphere_chi2: Domain::HEMISPHERE, SPHERE_RES,
+        |rng| v3(rejection::rejection_uniform_hemisphere(&mut rng)),
+        |p| mapping::pdf_uniform_hemisphere(w3(p)) as f64;
+    rejection_cosine_hemisphere_chi2: Domain::HEMISPHERE, SPHERE_RES,
+        |rng| v3(rejection::rejection_cosine_hemisphere(&mut rng)),
+        |p| mapping::pdf_cosine_hemisphere(w3(p)) as f64;
+}
+
+use rand_core::Rng;
+
+/// A wrong mapping must be rejected: uniform hemisphere samples claimed to
+/// be cosine-weighted. This is the harness's power check.
+#[test]
+fn uniform_claimed_as_cosine_is_rejected() {
+    let mut rng = Pcg32::new(1, STREAM);
+    let test = Chi2::new(
+        "negative_uniform_as_cosine",
+        Domain::HEMISPHERE,
+        SPHERE_RES,
+        TEST_COUNT,
+    );
+    let outcome = test.run(
+        || v3(mapping::sample_uniform_hemisphere(uniform(&mut rng))),
+        |p| mapping::pdf_cosine_hemisphere(w3(p)) as f64,
+    );
+    assert_eq!(outcome.impossible, 0);
+    eprintln!("{outcome:?}");
+    assert!(!outcome.passed(), "a wrong pdf passed: {outcome:?}");
+}
+
+/// The classic disk mistake, `r = u` instead of `sqrt(u)`, must be rejected.
+#[test]
+fn linear_radius_disk_is_rejected() {
+    let mut rng = Pcg32::new(2, STREAM);
+    let test = Chi2::new("negative_linear_radius", Domain::Disk, DISK_RES, TEST_COUNT);
+    let outcome = test.run(
+        || {
+            let u = uniform(&mut rng);
+            let p = mapping::sample_polar_disk(Vec2::new(u.x * u.x, u.y));
+            v2(p)
+        },
+        |p| mapping::pdf_polar_disk(w2(p)) as f64,
+    );
+    eprintln!("{outcome:?}");
+    assert!(!outcome.passed(), "a wrong disk passed: {outcome:?}");
+}
+
+/// A mapping that puts samples where its pdf is zero fails outright.
+#[test]
+fn samples_outside_support_are_rejected() {
+    let mut rng = Pcg32::new(3, STREAM);
+    let mut test = Chi2::new("negative_outside", Domain::SPHERE, SPHERE_RES, TEST_COUNT);
+    test.samples = 10_000;
+    let outcome = test.run(
+        || v3(mapping::sample_uniform_sphere(uniform(&mut rng))),
+        |p| mapping::pdf_uniform_hemisphere(w3(p)) as f64,
+    );
+    assert!(outcome.impossible > 4000, "{outcome:?}");
+    assert!(!outcome.passed());
+}
+
+/// The p-value function against published χ² critical values at 1 %.
+#[test]
+fn chi2_survival_matches_tables() {
+    for (x, dof) in [
+        (6.634_897, 1.0),
+        (23.209_251, 10.0),
+        (135.806_723, 100.0),
+        (1106.969, 1000.0),
+    ] {
+        let p = chi2_sf(x, dof);
+        assert!((p - 0.01).abs() < 1e-4, "dof {dof}: p = {p}");
+    }
+    // Q(1, x) = e^-x exactly.
+    for x in [0.1, 1.0, 5.0, 30.0] {
+        assert!((gamma_q(1.0, x) - (-x).exp()).abs() < 1e-12);
+    }
+    assert_eq!(gamma_q(3.0, 0.0), 1.0);
+}
