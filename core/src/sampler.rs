@@ -169,16 +169,24 @@ pub const fn permute(mut i: u32, len: u32, key: u32) -> u32 {
             break;
         }
     }
-    ((i as u64 + p as u64) % len as u64) as u32
+    // (i + p) mod len without overflow: i < len, so one subtraction.
+    let r = i.wrapping_add(p % len);
+    if r >= len || r < i {
+        r.wrapping_sub(len)
+    } else {
+        r
+    }
 }
 
 /// The point of stratum `s` of `n` at jitter `j ∈ [0, 1)`: `(s + j) / n`,
 /// rounded to an `f32` that is guaranteed to lie in `[s/n, (s+1)/n)`, so
-/// `floor(v · n) = s` holds exactly (it is computed exactly in `f64`).
+/// `floor(v · n) = s` holds exactly (it is checked exactly in `f64`).
+/// `inv_n` is `1 / n` in `f64`; multiplying by it instead of dividing may be
+/// off by an ulp, which the check repairs.
 #[inline]
-fn stratum_point(s: u32, j: f32, n: u32) -> f32 {
+fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
     let nf = n as f64;
-    let mut v = ((s as f64 + j as f64) / nf) as f32;
+    let mut v = ((s as f64 + j as f64) * inv_n) as f32;
     // f64 products of an f32 and an integer below 2^29 are exact.
     if v as f64 * nf >= (s + 1) as f64 {
         v = f32::from_bits(v.to_bits() - 1);
@@ -263,6 +271,8 @@ struct Strata {
     spp: u32,
     nx: u32,
     ny: u32,
+    /// `1 / spp`, `1 / nx`, `1 / ny`: reciprocals instead of divisions.
+    inv: [f64; 3],
     seed: u64,
     jitter: bool,
     /// Hash of (seed, pixel), the start of every permutation key.
@@ -285,6 +295,7 @@ impl Strata {
             spp,
             nx,
             ny,
+            inv: [1.0 / spp as f64, 1.0 / nx as f64, 1.0 / ny as f64],
             seed,
             jitter,
             pixel_key: 0,
@@ -318,8 +329,8 @@ impl Strata {
         let jx = self.jitter();
         let jy = self.jitter();
         Vec2::new(
-            stratum_point(stratum % self.nx, jx, self.nx),
-            stratum_point(stratum / self.nx, jy, self.ny),
+            stratum_point(stratum % self.nx, jx, self.nx, self.inv[1]),
+            stratum_point(stratum / self.nx, jy, self.ny, self.inv[2]),
         )
     }
 
@@ -342,7 +353,7 @@ impl Strata {
         let stratum = self.stratum(self.dimension);
         self.dimension += 1;
         let j = self.jitter();
-        stratum_point(stratum, j, self.spp)
+        stratum_point(stratum, j, self.spp, self.inv[0])
     }
 
     #[inline]
@@ -516,7 +527,7 @@ mod tests {
         for n in [1u32, 2, 3, 7, 10, 49, 100, 1000, 4095, 65535] {
             for s in [0, n / 3, n / 2, n - 1] {
                 for j in [0.0, 0.5, hi] {
-                    let v = stratum_point(s, j, n);
+                    let v = stratum_point(s, j, n, 1.0 / n as f64);
                     assert_eq!((v as f64 * n as f64).floor() as u32, s, "n {n} s {s} j {j}");
                     assert!(v < 1.0);
                 }
