@@ -65,6 +65,7 @@ pub mod mapping;
 pub mod onb;
 pub mod rng;
 pub mod sampler;
+pub mod trace;
 
 pub use onb::Onb;
 pub use sampler::{Independent, Sampler, Stratified, UniformGrid};

@@ -1,0 +1,582 @@
+//! Ray–sphere intersection: a scalar reference and SIMD twins that return
+//! the same bits.
+//!
+//! # Kernels
+//!
+//! | query | scalar reference | 1 ray × 8 spheres | 8 rays × spheres |
+//! |---|---|---|---|
+//! | one sphere | [`intersect_sphere`] | | |
+//! | closest hit | [`closest_hit`] | [`closest_hit_1x8`] | [`closest_hit_x8`] |
+//! | any hit (shadow rays) | [`any_hit`] | [`any_hit_1x8`] | [`any_hit_x8`] |
+//!
+//! Suffixes: `_1x8` is one ray against the spheres of a [`SphereSet`] eight
+//! at a time (for incoherent rays); `_x8` is a [`RayPacket8`] of eight rays
+//! against one sphere at a time (for coherent rays, e.g. camera rays of
+//! eight neighbouring pixels).
+//!
+//! # The same bits on every path
+//!
+//! Every kernel runs one function, written once for `f32` and `f32x8`
+//! (the private `lanes` module), so a ray gets the same sphere index and
+//! the bit-identical `t` from the scalar, 1×8 and packet paths, on SSE2,
+//! AVX2 or AVX-512 builds. No operation is fused; `√` is IEEE-exact
+//! everywhere. `tests/packet_vs_scalar.rs` checks this on 10⁶ rays.
+//!
+//! # The formula
+//!
+//! After Haines, Günther and Akenine-Möller, *Precision Improvements for
+//! Ray/Sphere Intersection* (Ray Tracing Gems, ch. 7, 2019). With a unit
+//! direction `d`, `f = o − c`, `b = f·d` and `c₀ = |f|² − r²`:
+//!
+//! ```text
+//! Δ = r² − |f − b d|²    if |f|² ≥ 4 r²   (origin beyond two radii)
+//! Δ = b² − c₀            otherwise
+//! q = −(b + sign(b) √Δ)                   (the larger root, stable)
+//! t₀ = c₀ / q,  t₁ = q
+//! ```
+//!
+//! The hit is the nearer root in the open interval `(t_min, t_max)`, else
+//! the farther one.
+//!
+//! Why two discriminants: the rounding error of `r² − |f − b d|²` grows
+//! like `ε r |f|`, that of `b² − c₀` like `ε |f|²`. The chapter's form is
+//! far better for a sphere small against its distance (the textbook form
+//! gets 16 % of hit/miss decisions wrong on a r = 0.5 sphere 2000 away),
+//! but for an origin near a big sphere — a camera above a r = 1000 ground,
+//! looking at the horizon — it is 7× worse and flips decisions. Choosing
+//! per ray by `|f|² ≥ 4r²` takes the better one in both regimes
+//! (`tests/robustness.rs` measures all three against `f64`).
+//!
+//! Rays that leave a surface start from [`Sphere::spawn_origin`], not from
+//! the hit point with a parametric epsilon (the course's `t_min = 1e-6`
+//! self-intersects on about 29 % of grazing secondary rays).
+//!
+//! # Degenerate input
+//!
+//! - A sphere with radius `≤ 0` or NaN is never hit; padding lanes of a
+//!   [`SphereSet`] have radius 0.
+//! - A ray with a NaN component, or NaN `t_min`/`t_max`, hits nothing; in a
+//!   packet, a NaN lane never affects the other lanes.
+//! - An empty range (`t_min ≥ t_max`) hits nothing.
+//! - Directions must be unit length: the formula assumes `d·d = 1`. For
+//!   any other direction (zero included) the result is unspecified — but
+//!   still the same on every path, and never a panic.
+//! - Coordinates whose squares overflow `f32` (beyond about 1.8e19) give
+//!   unspecified results, never a panic.
+//! - Ties (two spheres at the same `t`) go to the lower sphere index on
+//!   every path.
+
+use glam::Vec3;
+
+mod lanes;
+mod packet;
+
+use lanes::Lanes;
+pub use packet::{
+    HitPacket8, RayPacket8, SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, any_hit_x8,
+    chunks_for, closest_hit_1x8, closest_hit_x8,
+};
+
+/// A ray `o + t d` restricted to `t ∈ (t_min, t_max)`, both ends open.
+/// `dir` should be unit length so that `t` is a distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Origin.
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+    /// Lower end of the open `t` interval.
+    pub t_min: f32,
+    /// Upper end of the open `t` interval.
+    pub t_max: f32,
+}
+
+impl Ray {
+    /// A ray over `(0, ∞)`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Ray;
+    /// let r = Ray::new(Vec3::ZERO, Vec3::X);
+    /// assert_eq!(r.at(2.0), Vec3::new(2.0, 0.0, 0.0));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    /// The same ray over `(t_min, t_max)`.
+    #[inline]
+    #[must_use]
+    pub fn with_range(self, t_min: f32, t_max: f32) -> Self {
+        Self {
+            t_min,
+            t_max,
+            ..self
+        }
+    }
+
+    /// The point at parameter `t`: `origin + t · dir` (no fused multiply-add).
+    #[inline]
+    #[must_use]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// A sphere. A radius `≤ 0` or NaN makes it invisible to every query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Centre.
+    pub center: Vec3,
+    /// Radius.
+    pub radius: f32,
+}
+
+impl Sphere {
+    /// A sphere of `radius` around `center`.
+    #[inline]
+    #[must_use]
+    pub const fn new(center: Vec3, radius: f32) -> Self {
+        Self { center, radius }
+    }
+
+    /// The outward unit normal at a point `p` on the surface: `(p − c) / r`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Sphere;
+    /// let s = Sphere::new(Vec3::ZERO, 2.0);
+    /// assert_eq!(s.normal_at(Vec3::new(0.0, 2.0, 0.0)), Vec3::Y);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn normal_at(&self, p: Vec3) -> Vec3 {
+        (p - self.center) / self.radius
+    }
+}
+
+/// The offset that moves a point on a sphere off its surface for good, in
+/// units of `f32::EPSILON · (max |centre component| + radius)`.
+/// Measured: 1 suffices for every case in `tests/robustness.rs` (0.5 does
+/// not); 8 is the margin.
+pub const SPAWN_OFFSET_ULPS: f32 = 8.0;
+
+impl Sphere {
+    /// The distance a new ray's origin keeps from this sphere's surface:
+    /// `SPAWN_OFFSET_ULPS · f32::EPSILON · (max |cᵢ| + r)`. It bounds the
+    /// rounding of `o − c` and `|o − c|² − r²` for points on the surface,
+    /// so a ray spawned that far out (in) cannot re-hit the surface it
+    /// leaves at `t ≈ 0`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Sphere;
+    /// let ground = Sphere::new(Vec3::new(0.0, -100.5, -1.0), 100.0);
+    /// assert!(ground.offset_bound() < 2e-4);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn offset_bound(&self) -> f32 {
+        SPAWN_OFFSET_ULPS * f32::EPSILON * (self.center.abs().max_element() + self.radius.abs())
+    }
+
+    /// A safe origin for a ray leaving the surface near `p` (e.g. a hit
+    /// point `ray.at(t)`) to the `outside` of the sphere (reflection) or
+    /// its inside (transmission): `p` is projected back onto the sphere,
+    /// then moved [`Sphere::offset_bound`] along the normal to that side.
+    /// This replaces the course's parametric `t_min = 1e-6` (COURSE.md D9),
+    /// which lets grazing rays re-hit their own surface.
+    ///
+    /// The side is the caller's to state, not inferred from the direction:
+    /// for a direction within rounding of the tangent plane the sign of
+    /// `dir · n` is noise. A `p` at the centre gives NaN.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::{intersect_sphere, Ray, Sphere};
+    /// let s = Sphere::new(Vec3::new(0.3, -100.5, -1.0), 100.0);
+    /// let p = Vec3::new(0.3, -0.5, -1.0);
+    /// // Leaving almost parallel to the surface: no self-hit.
+    /// let dir = Vec3::new(1.0, 1e-4, 0.0).normalize();
+    /// let o = s.spawn_origin(p, true);
+    /// assert_eq!(intersect_sphere(&Ray::new(o, dir), &s), None);
+    /// // Entering: the ray crosses to the far side, 200 away.
+    /// let t = intersect_sphere(&Ray::new(s.spawn_origin(p, false), -Vec3::Y), &s).unwrap();
+    /// assert!((t - 200.0).abs() < 1e-3);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn spawn_origin(&self, p: Vec3, outside: bool) -> Vec3 {
+        let v = p - self.center;
+        let n = v / libm::sqrtf(v.length_squared());
+        let offset = self.offset_bound();
+        let side = if outside { offset } else { -offset };
+        self.center + n * (self.radius + side)
+    }
+}
+
+/// A closest hit: the distance along the ray and the index of the sphere in
+/// the slice or set that was traced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit, in the ray's open interval.
+    pub t: f32,
+    /// Index of the sphere hit.
+    pub sphere: u32,
+}
+
+/// The first root of the sphere in `(t_min, t_max)`, or `+∞` for a miss:
+/// the one kernel behind every query (see the module docs for the formula).
+/// Written once for `f32` and `f32x8` so all paths agree bit for bit.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sphere_t<L: Lanes>(
+    ox: L,
+    oy: L,
+    oz: L,
+    dx: L,
+    dy: L,
+    dz: L,
+    cx: L,
+    cy: L,
+    cz: L,
+    r: L,
+    t_min: L,
+    t_max: L,
+) -> L {
+    let zero = L::splat(0.0);
+    let fx = ox - cx;
+    let fy = oy - cy;
+    let fz = oz - cz;
+    let b = fx * dx + fy * dy + fz * dz;
+    let lx = fx - b * dx;
+    let ly = fy - b * dy;
+    let lz = fz - b * dz;
+    let r2 = r * r;
+    let ff = fx * fx + fy * fy + fz * fz;
+    let c = ff - r2;
+    let far_origin = ff.ge(L::splat(4.0) * r2);
+    let disc = L::select(far_origin, r2 - (lx * lx + ly * ly + lz * lz), b * b - c);
+    let root = disc.sqrt();
+    let q = L::select(b.gt(zero), -b - root, -b + root);
+    let t0 = c / q;
+    // near/far by compare and select, so a NaN root is rejected alike on
+    // every path (f32::min and SIMD min disagree on NaN).
+    let t0_first = t0.lt(q);
+    let near = L::select(t0_first, t0, q);
+    let far = L::select(t0_first, q, t0);
+    let valid = L::and(r.gt(zero), disc.ge(zero));
+    let near_ok = L::and(valid, L::and(near.gt(t_min), near.lt(t_max)));
+    let far_ok = L::and(valid, L::and(far.gt(t_min), far.lt(t_max)));
+    L::select(
+        near_ok,
+        near,
+        L::select(far_ok, far, L::splat(f32::INFINITY)),
+    )
+}
+
+/// The scalar kernel on a ray and a sphere.
+#[inline(always)]
+fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
+    sphere_t(
+        ray.origin.x,
+        ray.origin.y,
+        ray.origin.z,
+        ray.dir.x,
+        ray.dir.y,
+        ray.dir.z,
+        s.center.x,
+        s.center.y,
+        s.center.z,
+        s.radius,
+        ray.t_min,
+        t_max,
+    )
+}
+
+/// The first intersection of `ray` with `sphere` in `(t_min, t_max)`, by
+/// the robust formulation (module docs); `None` for a miss.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Ray, Sphere, intersect_sphere};
+/// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
+/// assert_eq!(intersect_sphere(&Ray::new(Vec3::ZERO, -Vec3::Z), &s), Some(4.0));
+/// // From inside, the far side.
+/// let inside = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::X);
+/// assert_eq!(intersect_sphere(&inside, &s), Some(1.0));
+/// assert_eq!(intersect_sphere(&Ray::new(Vec3::ZERO, Vec3::Z), &s), None);
+/// ```
+#[inline]
+#[must_use]
+pub fn intersect_sphere(ray: &Ray, sphere: &Sphere) -> Option<f32> {
+    let t = ray_sphere_t(ray, sphere, ray.t_max);
+    (t < f32::INFINITY).then_some(t)
+}
+
+/// The course's textbook intersection (`RT_object.Sphere.intersect`), kept
+/// to show why Strata does not use it: `Δ = b² − a c` with `a = d·d`,
+/// `b = f·d`, `c = |f|² − r²`, roots `(−b ∓ √Δ) / a`. Its discriminant
+/// cancels catastrophically when a sphere is small against its distance
+/// (see `tests/robustness.rs`). Same interval and degenerate-input rules
+/// as [`intersect_sphere`].
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Ray, Sphere, intersect_sphere_naive};
+/// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
+/// assert_eq!(intersect_sphere_naive(&Ray::new(Vec3::ZERO, -Vec3::Z), &s), Some(4.0));
+/// ```
+#[inline]
+#[must_use]
+// `!(x > 0)` on purpose: a NaN must take the miss branch.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn intersect_sphere_naive(ray: &Ray, sphere: &Sphere) -> Option<f32> {
+    if !(sphere.radius > 0.0) {
+        return None;
+    }
+    let f = ray.origin - sphere.center;
+    let a = ray.dir.dot(ray.dir);
+    let half_b = f.dot(ray.dir);
+    let c = f.dot(f) - sphere.radius * sphere.radius;
+    let disc = half_b * half_b - a * c;
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let root = libm::sqrtf(disc);
+    let inside = |t: f32| t > ray.t_min && t < ray.t_max;
+    let near = (-half_b - root) / a;
+    if inside(near) {
+        return Some(near);
+    }
+    let far = (-half_b + root) / a;
+    inside(far).then_some(far)
+}
+
+/// The closest sphere `ray` hits in `(t_min, t_max)`: the scalar reference
+/// every other closest-hit path must equal. Spheres are tested in slice
+/// order and the interval shrinks to each hit, so ties go to the lower
+/// index.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{closest_hit, Ray, Sphere};
+/// let spheres = [
+///     Sphere::new(Vec3::new(0.0, 0.0, -10.0), 1.0),
+///     Sphere::new(Vec3::new(0.0, 0.0, -4.0), 1.0),
+/// ];
+/// let hit = closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), &spheres).unwrap();
+/// assert_eq!((hit.sphere, hit.t), (1, 3.0));
+/// ```
+#[inline]
+#[must_use]
+pub fn closest_hit(ray: &Ray, spheres: &[Sphere]) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    let mut t_max = ray.t_max;
+    for (i, s) in spheres.iter().enumerate() {
+        let t = ray_sphere_t(ray, s, t_max);
+        if t < t_max {
+            t_max = t;
+            best = Some(Hit {
+                t,
+                sphere: i as u32,
+            });
+        }
+    }
+    best
+}
+
+/// Whether `ray` hits any sphere in `(t_min, t_max)`, stopping at the first
+/// one found: the shadow-ray query. Unlike the course's `find_occlusion`
+/// (COURSE.md D1), it does not count hits: one blocker is enough, and
+/// nothing beyond `t_max` (e.g. behind the light) counts.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{any_hit, Ray, Sphere};
+/// let blocker = [Sphere::new(Vec3::new(0.0, 2.0, 0.0), 0.5)];
+/// let to_light = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 5.0);
+/// assert!(any_hit(&to_light, &blocker));
+/// // A light closer than the blocker is not occluded by it.
+/// assert!(!any_hit(&to_light.with_range(1e-4, 1.0), &blocker));
+/// ```
+#[inline]
+#[must_use]
+pub fn any_hit(ray: &Ray, spheres: &[Sphere]) -> bool {
+    spheres
+        .iter()
+        .any(|s| ray_sphere_t(ray, s, ray.t_max) < f32::INFINITY)
+}
+
+/// The SIMD instruction set this build of `strata` runs its 8-wide kernels
+/// on, fixed at compile time by the target features.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SimdLevel {
+    /// No x86 SIMD: `wide` falls back to arrays of scalars.
+    Scalar,
+    /// SSE2 (every x86-64): an `f32x8` is two 4-lane halves.
+    Sse2,
+    /// SSE4.1.
+    Sse41,
+    /// AVX: one 256-bit register per `f32x8`.
+    Avx,
+    /// AVX2.
+    Avx2,
+    /// AVX-512 (F) is available to the build; `f32x8` kernels still use
+    /// 256-bit registers.
+    Avx512,
+}
+
+impl SimdLevel {
+    /// A short name: `scalar`, `sse2`, `sse4.1`, `avx`, `avx2`, `avx512`.
+    #[inline]
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            SimdLevel::Scalar => "scalar",
+            SimdLevel::Sse2 => "sse2",
+            SimdLevel::Sse41 => "sse4.1",
+            SimdLevel::Avx => "avx",
+            SimdLevel::Avx2 => "avx2",
+            SimdLevel::Avx512 => "avx512",
+        }
+    }
+}
+
+/// The SIMD level of this build (from `cfg!(target_feature = ...)`). It
+/// changes speed only: every level returns the same bits.
+///
+/// ```
+/// let level = strata::trace::simd_level();
+/// assert!(!level.name().is_empty());
+/// ```
+#[inline]
+#[must_use]
+pub const fn simd_level() -> SimdLevel {
+    if cfg!(target_feature = "avx512f") {
+        SimdLevel::Avx512
+    } else if cfg!(target_feature = "avx2") {
+        SimdLevel::Avx2
+    } else if cfg!(target_feature = "avx") {
+        SimdLevel::Avx
+    } else if cfg!(target_feature = "sse4.1") {
+        SimdLevel::Sse41
+    } else if cfg!(target_feature = "sse2") {
+        SimdLevel::Sse2
+    } else {
+        SimdLevel::Scalar
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const UNIT: Sphere = Sphere::new(Vec3::ZERO, 1.0);
+
+    #[test]
+    fn origin_inside_hits_the_far_side() {
+        let r = Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::Z);
+        assert_eq!(intersect_sphere(&r, &UNIT), Some(0.5));
+        let r = Ray::new(Vec3::new(0.0, 0.0, 0.5), -Vec3::Z);
+        assert_eq!(intersect_sphere(&r, &UNIT), Some(1.5));
+    }
+
+    #[test]
+    fn tangent_rays_hit_once_and_near_misses_miss() {
+        // Passing at exactly distance r: Δ = 0, a (double) hit.
+        let r = Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X);
+        assert_eq!(intersect_sphere(&r, &UNIT), Some(5.0));
+        let r = Ray::new(Vec3::new(-5.0, 1.000_001, 0.0), Vec3::X);
+        assert_eq!(intersect_sphere(&r, &UNIT), None);
+    }
+
+    #[test]
+    fn degenerate_spheres_are_never_hit() {
+        let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        for radius in [0.0, -1.0, f32::NAN, -0.0] {
+            let s = Sphere::new(Vec3::ZERO, radius);
+            assert_eq!(intersect_sphere(&r, &s), None, "radius {radius}");
+            assert_eq!(intersect_sphere_naive(&r, &s), None, "radius {radius}");
+            assert!(!any_hit(&r, &[s]));
+        }
+    }
+
+    #[test]
+    fn interval_ends_are_open() {
+        let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z); // hits at 4 and 6
+        assert_eq!(intersect_sphere(&r.with_range(4.0, 10.0), &UNIT), Some(6.0));
+        assert_eq!(intersect_sphere(&r.with_range(0.0, 4.0), &UNIT), None);
+        assert_eq!(intersect_sphere(&r.with_range(3.0, 6.0), &UNIT), Some(4.0));
+        assert_eq!(intersect_sphere(&r.with_range(4.0, 6.0), &UNIT), None);
+        assert_eq!(intersect_sphere(&r.with_range(7.0, 3.0), &UNIT), None); // empty
+        assert_eq!(intersect_sphere(&r.with_range(f32::NAN, 10.0), &UNIT), None);
+    }
+
+    #[test]
+    fn huge_and_tiny_coordinates() {
+        let far = Sphere::new(Vec3::new(1e7, 0.0, 0.0), 1e3);
+        let r = Ray::new(Vec3::ZERO, Vec3::X);
+        assert_eq!(intersect_sphere(&r, &far), Some(1e7 - 1e3));
+        let tiny = Sphere::new(Vec3::new(0.0, 0.0, -1e-3), 1e-5);
+        let t = intersect_sphere(&Ray::new(Vec3::ZERO, -Vec3::Z), &tiny).unwrap();
+        assert!((t - 0.99e-3).abs() < 1e-9, "{t}");
+    }
+
+    #[test]
+    fn ties_go_to_the_lowest_index() {
+        let spheres = [UNIT, Sphere::new(Vec3::new(0.0, 0.0, -10.0), 1.0), UNIT];
+        let hit = closest_hit(&Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), &spheres);
+        assert_eq!(hit, Some(Hit { t: 4.0, sphere: 0 }));
+    }
+
+    /// COURSE.md D1: the course's `find_occlusion` counts hits and calls a
+    /// shadow ray blocked only at two or more, on an unnormalised direction
+    /// with the interval (1e-6, |d|). A shadow ray from a surface point to
+    /// a light, with one blocker between, is occluded here; one with the
+    /// blocker behind the light is not; the surface it leaves never counts.
+    #[test]
+    fn shadow_rays_are_right_where_the_course_is_wrong() {
+        let surface = Sphere::new(Vec3::ZERO, 1.0);
+        let light = Vec3::new(0.0, 4.0, 0.0);
+        let p = surface.spawn_origin(Vec3::Y, true);
+        let to_light = (light - p).normalize();
+        // Stop short of the light itself (its own sphere is not a blocker).
+        let shadow = Ray::new(p, to_light).with_range(0.0, (light - p).length() - 0.05);
+        let blocker = Sphere::new(Vec3::new(0.0, 2.5, 0.0), 0.3);
+        let behind = Sphere::new(Vec3::new(0.0, 6.0, 0.0), 0.5);
+        // One blocker: occluded (the course needs two hits).
+        assert!(any_hit(&shadow, &[surface, blocker]));
+        // Only what lies beyond the light: not occluded (the course's
+        // interval (1e-6, |d|²) reaches past the light when |d| > 1).
+        assert!(!any_hit(&shadow, &[surface, behind]));
+        // The surface the ray leaves is never its own blocker.
+        assert!(!any_hit(&shadow, &[surface]));
+        // A light 0.6 away with a blocker 0.4–0.5 along: occluded. (The
+        // course's interval ends at t = |d| in units of |d|, 0.36 away in
+        // world units, so it never reaches this blocker.)
+        let near_light = Vec3::new(0.0, 1.6, 0.0);
+        let thin = Sphere::new(Vec3::new(0.0, 1.45, 0.0), 0.05);
+        let r = Ray::new(p, Vec3::Y).with_range(0.0, (near_light - p).length());
+        assert!(any_hit(&r, &[surface, thin]));
+    }
+
+    #[test]
+    fn simd_level_matches_target_features() {
+        let level = simd_level();
+        assert_eq!(
+            level == SimdLevel::Avx2 || level == SimdLevel::Avx512,
+            cfg!(target_feature = "avx2")
+        );
+        if cfg!(target_arch = "x86_64") {
+            assert!(level >= SimdLevel::Sse2);
+        }
+    }
+}

@@ -1,0 +1,126 @@
+//! The one place that names `wide`'s API, and the lane abstraction that
+//! lets a kernel be written once for `f32` and for `f32x8`.
+//!
+//! A kernel generic over [`Lanes`] performs the same IEEE operations in the
+//! same order for one lane and for eight, so the scalar reference and its
+//! SIMD twin return the same bits by construction. Only operations that are
+//! exact per lane on every x86-64 level are exposed: `+ − × ÷ √`,
+//! comparisons and selects. Not `recip`, `recip_sqrt`, `mul_add`, `min` or
+//! `max`, whose results or NaN rules differ between CPUs or between `f32`
+//! and `f32x8`.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use wide::{f32x8, i32x8};
+
+/// `f32` or `f32x8`, with a boolean or lane mask.
+pub(crate) trait Lanes:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// `bool` for one lane, an all-ones/all-zeros `f32x8` for eight.
+    type Mask: Copy;
+    fn splat(x: f32) -> Self;
+    fn sqrt(self) -> Self;
+    /// Comparisons are false when either side is NaN.
+    fn lt(self, rhs: Self) -> Self::Mask;
+    fn gt(self, rhs: Self) -> Self::Mask;
+    fn ge(self, rhs: Self) -> Self::Mask;
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// `if mask { a } else { b }` per lane.
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+}
+
+impl Lanes for f32 {
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrtf(self)
+    }
+    #[inline(always)]
+    fn lt(self, rhs: Self) -> bool {
+        self < rhs
+    }
+    #[inline(always)]
+    fn gt(self, rhs: Self) -> bool {
+        self > rhs
+    }
+    #[inline(always)]
+    fn ge(self, rhs: Self) -> bool {
+        self >= rhs
+    }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a & b
+    }
+    #[inline(always)]
+    fn select(mask: bool, a: Self, b: Self) -> Self {
+        if mask { a } else { b }
+    }
+}
+
+impl Lanes for f32x8 {
+    type Mask = f32x8;
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x8::splat(x)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32x8::sqrt(self)
+    }
+    #[inline(always)]
+    fn lt(self, rhs: Self) -> f32x8 {
+        self.simd_lt(rhs)
+    }
+    #[inline(always)]
+    fn gt(self, rhs: Self) -> f32x8 {
+        self.simd_gt(rhs)
+    }
+    #[inline(always)]
+    fn ge(self, rhs: Self) -> f32x8 {
+        self.simd_ge(rhs)
+    }
+    #[inline(always)]
+    fn and(a: f32x8, b: f32x8) -> f32x8 {
+        a & b
+    }
+    #[inline(always)]
+    fn select(mask: f32x8, a: Self, b: Self) -> Self {
+        lanes_select(mask, a, b)
+    }
+}
+
+/// `if mask { a } else { b }` per lane of an `f32x8`.
+#[inline(always)]
+pub(crate) fn lanes_select(mask: f32x8, a: f32x8, b: f32x8) -> f32x8 {
+    wide::Select::select(mask, a, b)
+}
+
+/// `if mask { a } else { b }` per lane, for integer lanes under a float
+/// mask.
+#[inline(always)]
+pub(crate) fn lanes_select_i32(mask: f32x8, a: i32x8, b: i32x8) -> i32x8 {
+    let m: i32x8 = wide::bytemuck::cast(mask);
+    wide::Select::select(m, a, b)
+}
+
+/// Bit `k` set when lane `k` of the mask is set.
+#[inline(always)]
+pub(crate) fn lanes_bitmask(mask: f32x8) -> u32 {
+    mask.to_bitmask()
+}
+
+/// A mask from eight booleans.
+#[inline(always)]
+pub(crate) fn mask_from_bools(b: [bool; 8]) -> f32x8 {
+    f32x8::new(b.map(|x| if x { f32::from_bits(u32::MAX) } else { 0.0 }))
+}

@@ -1,0 +1,483 @@
+//! Structure-of-arrays sphere sets and 8-ray packets, and the 8-wide twins
+//! of [`super::closest_hit`] and [`super::any_hit`].
+//!
+//! # The lane contract
+//!
+//! - A lane of a mask is all ones (set) or all zeros.
+//! - Lanes never mix: a NaN or infinite lane changes only its own result.
+//! - Inactive packet lanes are never written: [`closest_hit_x8`] leaves
+//!   their entries of the [`HitPacket8`] exactly as the caller passed them,
+//!   and [`any_hit_x8`] reports them as not occluded.
+//! - No kernel panics and none allocates.
+
+use glam::Vec3;
+use wide::{f32x8, i32x8};
+
+use super::lanes::{Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bools};
+use super::{Hit, Ray, Sphere, sphere_t};
+
+/// Eight spheres as structure of arrays: one `f32x8` per coordinate and
+/// one for the radius. Unused lanes have radius 0 and can never be hit.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereChunk8 {
+    /// Centre x of each lane.
+    pub cx: f32x8,
+    /// Centre y of each lane.
+    pub cy: f32x8,
+    /// Centre z of each lane.
+    pub cz: f32x8,
+    /// Radius of each lane; 0 in padding lanes.
+    pub r: f32x8,
+}
+
+// One chunk is four 32-byte vectors, aligned for 256-bit loads.
+const _: () = assert!(core::mem::size_of::<SphereChunk8>() == 128);
+const _: () = assert!(core::mem::align_of::<SphereChunk8>() >= 16);
+
+impl SphereChunk8 {
+    /// A chunk of eight padding lanes (radius 0: never hit).
+    pub const EMPTY: SphereChunk8 = SphereChunk8 {
+        cx: f32x8::ZERO,
+        cy: f32x8::ZERO,
+        cz: f32x8::ZERO,
+        r: f32x8::ZERO,
+    };
+}
+
+/// How many [`SphereChunk8`] a set of `n` spheres needs: `⌈n / 8⌉`.
+///
+/// ```
+/// assert_eq!(strata::trace::chunks_for(0), 0);
+/// assert_eq!(strata::trace::chunks_for(9), 2);
+/// ```
+#[inline]
+#[must_use]
+pub const fn chunks_for(n: usize) -> usize {
+    n.div_ceil(8)
+}
+
+/// Why a [`SphereSet`] could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SphereSetError {
+    /// The storage slice holds fewer chunks than [`chunks_for`] requires.
+    StorageTooSmall {
+        /// Chunks required.
+        needed: usize,
+        /// Chunks provided.
+        provided: usize,
+    },
+    /// More spheres than a 32-bit signed lane index can name (`2³¹ − 1`).
+    TooManySpheres,
+}
+
+/// A read-only view of spheres stored as [`SphereChunk8`]s in
+/// caller-provided storage. Sphere `i` is lane `i % 8` of chunk `i / 8`.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{chunks_for, closest_hit_1x8, Ray, Sphere, SphereChunk8, SphereSet};
+/// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0); 3];
+/// let mut storage = [SphereChunk8::EMPTY; 1];
+/// assert_eq!(chunks_for(spheres.len()), storage.len());
+/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
+/// let hit = closest_hit_1x8(&Ray::new(Vec3::ZERO, -Vec3::Z), &set).unwrap();
+/// assert_eq!((hit.sphere, hit.t), (0, 2.0)); // ties go to the lowest index
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct SphereSet<'a> {
+    chunks: &'a [SphereChunk8],
+    len: usize,
+}
+
+impl<'a> SphereSet<'a> {
+    /// Writes `spheres` into the first [`chunks_for`]`(spheres.len())`
+    /// chunks of `storage`, padding the last chunk, and returns a view of
+    /// them. On error nothing is written.
+    #[inline]
+    pub fn build(
+        spheres: &[Sphere],
+        storage: &'a mut [SphereChunk8],
+    ) -> Result<SphereSet<'a>, SphereSetError> {
+        if spheres.len() > i32::MAX as usize {
+            return Err(SphereSetError::TooManySpheres);
+        }
+        let needed = chunks_for(spheres.len());
+        if storage.len() < needed {
+            return Err(SphereSetError::StorageTooSmall {
+                needed,
+                provided: storage.len(),
+            });
+        }
+        let storage = &mut storage[..needed];
+        for (chunk, group) in storage.iter_mut().zip(spheres.chunks(8)) {
+            let mut a = [[0.0f32; 8]; 4];
+            for (lane, s) in group.iter().enumerate() {
+                a[0][lane] = s.center.x;
+                a[1][lane] = s.center.y;
+                a[2][lane] = s.center.z;
+                a[3][lane] = s.radius;
+            }
+            *chunk = SphereChunk8 {
+                cx: f32x8::new(a[0]),
+                cy: f32x8::new(a[1]),
+                cz: f32x8::new(a[2]),
+                r: f32x8::new(a[3]),
+            };
+        }
+        Ok(SphereSet {
+            chunks: storage,
+            len: spheres.len(),
+        })
+    }
+
+    /// The number of spheres.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the set has no spheres.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The chunks, the last one padded.
+    #[inline]
+    #[must_use]
+    pub fn chunks(&self) -> &'a [SphereChunk8] {
+        self.chunks
+    }
+
+    /// Sphere `i`, or `None` past the end.
+    #[inline]
+    #[must_use]
+    pub fn sphere(&self, i: usize) -> Option<Sphere> {
+        if i >= self.len {
+            return None;
+        }
+        let c = &self.chunks[i / 8];
+        let l = i % 8;
+        Some(Sphere::new(
+            Vec3::new(c.cx.as_array()[l], c.cy.as_array()[l], c.cz.as_array()[l]),
+            c.r.as_array()[l],
+        ))
+    }
+}
+
+/// The closest hit of one ray against a [`SphereSet`], eight spheres per
+/// step: the 1×8 twin of [`super::closest_hit`], with the same result bit
+/// for bit (ties to the lowest index).
+#[inline]
+#[must_use]
+pub fn closest_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> Option<Hit> {
+    let o = ray.origin;
+    let d = ray.dir;
+    let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
+    let (dx, dy, dz) = (f32x8::splat(d.x), f32x8::splat(d.y), f32x8::splat(d.z));
+    let (t_min, t_max) = (f32x8::splat(ray.t_min), f32x8::splat(ray.t_max));
+    let mut best_t = f32x8::splat(f32::INFINITY);
+    let mut best_i = i32x8::splat(-1);
+    let mut index = i32x8::new([0, 1, 2, 3, 4, 5, 6, 7]);
+    for c in set.chunks {
+        let t = sphere_t(ox, oy, oz, dx, dy, dz, c.cx, c.cy, c.cz, c.r, t_min, t_max);
+        // Strict: an earlier chunk keeps a tie, as in the scalar loop.
+        let closer = t.lt(best_t);
+        best_t = lanes_select(closer, t, best_t);
+        best_i = lanes_select_i32(closer, index, best_i);
+        index += i32x8::splat(8);
+    }
+    // Lowest t, then lowest index among equal t.
+    let ts = best_t.to_array();
+    let is = best_i.to_array();
+    let mut best: Option<Hit> = None;
+    for lane in 0..8 {
+        if ts[lane] < f32::INFINITY {
+            let h = Hit {
+                t: ts[lane],
+                sphere: is[lane] as u32,
+            };
+            best = match best {
+                Some(b) if b.t < h.t || (b.t == h.t && b.sphere < h.sphere) => Some(b),
+                _ => Some(h),
+            };
+        }
+    }
+    best
+}
+
+/// Whether one ray hits any sphere of a [`SphereSet`], eight spheres per
+/// step, stopping at the first chunk with a hit: the 1×8 twin of
+/// [`super::any_hit`].
+#[inline]
+#[must_use]
+pub fn any_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> bool {
+    let o = ray.origin;
+    let d = ray.dir;
+    let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
+    let (dx, dy, dz) = (f32x8::splat(d.x), f32x8::splat(d.y), f32x8::splat(d.z));
+    let (t_min, t_max) = (f32x8::splat(ray.t_min), f32x8::splat(ray.t_max));
+    let inf = f32x8::splat(f32::INFINITY);
+    set.chunks.iter().any(|c| {
+        let t = sphere_t(ox, oy, oz, dx, dy, dz, c.cx, c.cy, c.cz, c.r, t_min, t_max);
+        lanes_bitmask(t.lt(inf)) != 0
+    })
+}
+
+/// Eight rays as structure of arrays, with an active-lane mask.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Ray, RayPacket8};
+/// let rays = [Ray::new(Vec3::ZERO, Vec3::X), Ray::new(Vec3::ONE, Vec3::Y)];
+/// let p = RayPacket8::from_rays(&rays);
+/// assert_eq!(p.active_bits(), 0b11);
+/// assert_eq!(p.ray(1), rays[1]);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct RayPacket8 {
+    /// Origin x per lane.
+    pub ox: f32x8,
+    /// Origin y per lane.
+    pub oy: f32x8,
+    /// Origin z per lane.
+    pub oz: f32x8,
+    /// Unit direction x per lane.
+    pub dx: f32x8,
+    /// Unit direction y per lane.
+    pub dy: f32x8,
+    /// Unit direction z per lane.
+    pub dz: f32x8,
+    /// Open interval start per lane.
+    pub t_min: f32x8,
+    /// Open interval end per lane.
+    pub t_max: f32x8,
+    /// All ones in lanes that carry a ray, zeros elsewhere.
+    pub active: f32x8,
+}
+
+impl RayPacket8 {
+    /// A packet of up to eight rays: lane `k` holds `rays[k]`; lanes past
+    /// the end (and every lane past the eighth ray, which is ignored) are
+    /// inactive and hold a zero ray.
+    #[inline]
+    #[must_use]
+    pub fn from_rays(rays: &[Ray]) -> Self {
+        let mut a = [[0.0f32; 8]; 8];
+        let mut on = [false; 8];
+        for (lane, r) in rays.iter().take(8).enumerate() {
+            let v = [
+                r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max,
+            ];
+            for (k, x) in v.into_iter().enumerate() {
+                a[k][lane] = x;
+            }
+            on[lane] = true;
+        }
+        Self {
+            ox: f32x8::new(a[0]),
+            oy: f32x8::new(a[1]),
+            oz: f32x8::new(a[2]),
+            dx: f32x8::new(a[3]),
+            dy: f32x8::new(a[4]),
+            dz: f32x8::new(a[5]),
+            t_min: f32x8::new(a[6]),
+            t_max: f32x8::new(a[7]),
+            active: mask_from_bools(on),
+        }
+    }
+
+    /// The ray in `lane` (0–7; taken modulo 8).
+    #[inline]
+    #[must_use]
+    pub fn ray(&self, lane: usize) -> Ray {
+        let l = lane % 8;
+        let g = |v: &f32x8| v.as_array()[l];
+        Ray {
+            origin: Vec3::new(g(&self.ox), g(&self.oy), g(&self.oz)),
+            dir: Vec3::new(g(&self.dx), g(&self.dy), g(&self.dz)),
+            t_min: g(&self.t_min),
+            t_max: g(&self.t_max),
+        }
+    }
+
+    /// Bit `k` set when lane `k` is active.
+    #[inline]
+    #[must_use]
+    pub fn active_bits(&self) -> u32 {
+        lanes_bitmask(self.active)
+    }
+
+    /// The points `o + t d` of every lane, as x, y, z vectors.
+    #[inline]
+    #[must_use]
+    pub fn points_at(&self, t: f32x8) -> [f32x8; 3] {
+        [
+            self.ox + self.dx * t,
+            self.oy + self.dy * t,
+            self.oz + self.dz * t,
+        ]
+    }
+}
+
+/// Per-lane closest hits of a [`RayPacket8`]: `t` (`+∞` for none) and the
+/// sphere index (−1 for none).
+#[derive(Clone, Copy, Debug)]
+pub struct HitPacket8 {
+    /// Hit distance per lane, `+∞` where nothing was hit.
+    pub t: f32x8,
+    /// Sphere index per lane, −1 where nothing was hit.
+    pub sphere: i32x8,
+}
+
+impl Default for HitPacket8 {
+    #[inline]
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
+impl HitPacket8 {
+    /// No hit in any lane.
+    pub const NONE: HitPacket8 = HitPacket8 {
+        t: f32x8::splat(f32::INFINITY),
+        sphere: i32x8::splat(-1),
+    };
+
+    /// The hit of `lane` (0–7; taken modulo 8), if any.
+    #[inline]
+    #[must_use]
+    pub fn hit(&self, lane: usize) -> Option<Hit> {
+        let l = lane % 8;
+        let t = self.t.as_array()[l];
+        let s = self.sphere.as_array()[l];
+        (t < f32::INFINITY && s >= 0).then_some(Hit {
+            t,
+            sphere: s as u32,
+        })
+    }
+}
+
+/// The closest hits of a packet against a [`SphereSet`], one sphere for all
+/// eight rays per step: the packet twin of [`super::closest_hit`], lane by
+/// lane the same bits.
+///
+/// `hits` is read and updated: a lane takes a sphere only if it is strictly
+/// closer than the lane's current `hits.t` (so a fresh [`HitPacket8::NONE`]
+/// gives the closest hit, and tracing several sets in turn gives the
+/// closest over all, ties to the earlier). Inactive lanes are not written.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::*;
+/// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
+/// let mut storage = [SphereChunk8::EMPTY];
+/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
+/// let rays = [Ray::new(Vec3::ZERO, -Vec3::Z), Ray::new(Vec3::ZERO, Vec3::Z)];
+/// let mut hits = HitPacket8::NONE;
+/// closest_hit_x8(&RayPacket8::from_rays(&rays), &set, &mut hits);
+/// assert_eq!(hits.hit(0), closest_hit(&rays[0], &spheres));
+/// assert_eq!(hits.hit(1), None);
+/// ```
+#[inline]
+pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPacket8) {
+    let p = packet;
+    let mut best_t = hits.t;
+    let mut best_i = hits.sphere;
+    let mut index = 0i32;
+    for c in set.chunks {
+        let (cx, cy, cz, r) = (
+            c.cx.as_array(),
+            c.cy.as_array(),
+            c.cz.as_array(),
+            c.r.as_array(),
+        );
+        for lane in 0..8 {
+            if index as usize >= set.len {
+                break;
+            }
+            let t = sphere_t(
+                p.ox,
+                p.oy,
+                p.oz,
+                p.dx,
+                p.dy,
+                p.dz,
+                f32x8::splat(cx[lane]),
+                f32x8::splat(cy[lane]),
+                f32x8::splat(cz[lane]),
+                f32x8::splat(r[lane]),
+                p.t_min,
+                p.t_max,
+            );
+            let closer = p.active & t.lt(best_t);
+            best_t = lanes_select(closer, t, best_t);
+            best_i = lanes_select_i32(closer, i32x8::splat(index), best_i);
+            index += 1;
+        }
+    }
+    hits.t = best_t;
+    hits.sphere = best_i;
+}
+
+/// Which rays of a packet hit any sphere of a [`SphereSet`] in their
+/// interval: bit `k` set when active lane `k` is occluded. Stops as soon as
+/// every active lane is occluded. The packet twin of [`super::any_hit`].
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::*;
+/// let spheres = [Sphere::new(Vec3::new(0.0, 2.0, 0.0), 0.5)];
+/// let mut storage = [SphereChunk8::EMPTY];
+/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
+/// let up = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 5.0);
+/// let side = Ray::new(Vec3::ZERO, Vec3::X).with_range(1e-4, 5.0);
+/// assert_eq!(any_hit_x8(&RayPacket8::from_rays(&[up, side]), &set), 0b01);
+/// ```
+#[inline]
+#[must_use]
+pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
+    let p = packet;
+    let active = lanes_bitmask(p.active);
+    if active == 0 {
+        return 0;
+    }
+    let inf = f32x8::splat(f32::INFINITY);
+    let mut occluded = 0u32;
+    let mut index = 0usize;
+    for c in set.chunks {
+        let (cx, cy, cz, r) = (
+            c.cx.as_array(),
+            c.cy.as_array(),
+            c.cz.as_array(),
+            c.r.as_array(),
+        );
+        for lane in 0..8 {
+            if index >= set.len {
+                break;
+            }
+            let t = sphere_t(
+                p.ox,
+                p.oy,
+                p.oz,
+                p.dx,
+                p.dy,
+                p.dz,
+                f32x8::splat(cx[lane]),
+                f32x8::splat(cy[lane]),
+                f32x8::splat(cz[lane]),
+                f32x8::splat(r[lane]),
+                p.t_min,
+                p.t_max,
+            );
+            occluded |= lanes_bitmask(p.active & t.lt(inf));
+            if occluded == active {
+                return occluded;
+            }
+            index += 1;
+        }
+    }
+    occluded
+}

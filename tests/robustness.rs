@@ -1,0 +1,227 @@
+//! Precision of the ray–sphere kernel against an `f64` reference computed
+//! on the same `f32` inputs, in three regimes, and the spawn offset that
+//! replaces the course's parametric epsilon (COURSE.md D9).
+//!
+//! Compared: Strata's [`intersect_sphere`], the course's textbook form
+//! [`intersect_sphere_naive`], and the chapter's discriminant alone
+//! (`rtg_only` below, not shipped), which motivates Strata's per-ray
+//! choice between the two discriminants.
+
+use glam::{DVec3, Vec2, Vec3};
+use strata::Onb;
+use strata::mapping::{sample_uniform_hemisphere, sample_uniform_sphere};
+use strata::rng::{Pcg32, STREAM, next_f32};
+use strata::trace::*;
+
+/// The first root in the open interval, in f64 on the f32 inputs.
+fn reference(ray: &Ray, s: &Sphere) -> Option<f64> {
+    let (o, d, c) = (
+        ray.origin.as_dvec3(),
+        ray.dir.as_dvec3(),
+        s.center.as_dvec3(),
+    );
+    let r = s.radius as f64;
+    let f = o - c;
+    let b = f.dot(d);
+    let l = f - d * b;
+    let disc = r * r - l.dot(l);
+    if disc < 0.0 {
+        return None;
+    }
+    let q = if b > 0.0 {
+        -b - disc.sqrt()
+    } else {
+        -b + disc.sqrt()
+    };
+    let (t0, t1) = ((f.dot(f) - r * r) / q, q);
+    let (near, far) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+    let inside = |t: f64| t > ray.t_min as f64 && t < ray.t_max as f64;
+    if inside(near) {
+        Some(near)
+    } else if inside(far) {
+        Some(far)
+    } else {
+        None
+    }
+}
+
+/// The chapter's discriminant alone, in f32: the comparison that shows why
+/// Strata switches to `b² − c` near big spheres.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must miss
+fn rtg_only(ray: &Ray, s: &Sphere) -> Option<f32> {
+    let f = ray.origin - s.center;
+    let b = f.dot(ray.dir);
+    let l = f - ray.dir * b;
+    let r2 = s.radius * s.radius;
+    let disc = r2 - l.dot(l);
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let q = if b > 0.0 {
+        -b - disc.sqrt()
+    } else {
+        -b + disc.sqrt()
+    };
+    let t0 = (f.dot(f) - r2) / q;
+    let (near, far) = if t0 < q { (t0, q) } else { (q, t0) };
+    let inside = |t: f32| t > ray.t_min && t < ray.t_max;
+    if inside(near) {
+        Some(near)
+    } else if inside(far) {
+        Some(far)
+    } else {
+        None
+    }
+}
+
+#[derive(Debug, Default)]
+struct Errors {
+    /// Hit where the reference misses, or the reverse.
+    wrong: usize,
+    /// Largest relative error of t where both hit.
+    max_rel: f64,
+}
+
+fn measure(rays: &[Ray], s: &Sphere, f: impl Fn(&Ray, &Sphere) -> Option<f32>) -> Errors {
+    let mut e = Errors::default();
+    for ray in rays {
+        match (reference(ray, s), f(ray, s)) {
+            (Some(w), Some(t)) => e.max_rel = e.max_rel.max(((t as f64 - w) / w).abs()),
+            (None, None) => {}
+            _ => e.wrong += 1,
+        }
+    }
+    e
+}
+
+/// Rays from `from` at elevations `e0..e1` (radians) around azimuth `az`.
+fn fan(from: Vec3, az: f64, e0: f64, e1: f64, n: usize) -> Vec<Ray> {
+    (0..n)
+        .map(|k| {
+            let e = e0 + (e1 - e0) * (k as f64 / n as f64);
+            let d = DVec3::new(az.sin() * e.cos(), e.sin(), -az.cos() * e.cos());
+            Ray::new(from, d.normalize().as_vec3())
+        })
+        .collect()
+}
+
+/// A small sphere far away: the textbook discriminant `b² − c` loses
+/// everything to cancellation; Strata's is exact to an ulp or so.
+#[test]
+fn small_distant_sphere() {
+    let s = Sphere::new(Vec3::new(0.0, 0.0, -2000.0), 0.5);
+    let rays: Vec<Ray> = (0..100_000)
+        .map(|k| {
+            let x = -0.6 + 1.2 * (k as f64 / 100_000.0);
+            Ray::new(
+                Vec3::ZERO,
+                DVec3::new(x, 0.0, -2000.0).normalize().as_vec3(),
+            )
+        })
+        .collect();
+    let naive = measure(&rays, &s, intersect_sphere_naive);
+    let strata = measure(&rays, &s, intersect_sphere);
+    println!("small distant sphere: naive {naive:?}, strata {strata:?}");
+    assert!(
+        naive.wrong > 10_000,
+        "the textbook form should fail here: {naive:?}"
+    );
+    assert_eq!(strata.wrong, 0);
+    assert!(strata.max_rel < 1e-6, "{strata:?}");
+}
+
+/// Near-tangent rays over big spheres from just above them (the course's
+/// ground r = 100 from its camera, and a r = 1000 ground), with origins
+/// that are not exactly representable. Strata must be as accurate as the
+/// better of the two discriminants; the chapter's alone is not.
+#[test]
+fn grazing_rays_over_big_spheres() {
+    let cases = [
+        (
+            "course ground",
+            Sphere::new(Vec3::new(0.0, -100.5, -1.0), 100.0),
+            Vec3::new(-2.012_345_7, 2.098_765_4, 1.031_415_9),
+            0.3,
+            -0.25,
+        ),
+        (
+            "r = 1000 ground",
+            Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0),
+            Vec3::new(13.012_346, 2.098_765_4, 3.031_416),
+            4.0,
+            -0.1,
+        ),
+    ];
+    for (name, s, eye, az, e0) in cases {
+        let rays = fan(eye, az, e0, 0.0, 200_000);
+        let naive = measure(&rays, &s, intersect_sphere_naive);
+        let rtg = measure(&rays, &s, rtg_only);
+        let strata = measure(&rays, &s, intersect_sphere);
+        println!("{name}: naive {naive:?}, chapter alone {rtg:?}, strata {strata:?}");
+        assert_eq!(strata.wrong, 0, "{name}");
+        let best = naive.max_rel.min(rtg.max_rel);
+        assert!(
+            strata.max_rel <= best * 1.01 + 1e-9,
+            "{name}: {strata:?} vs best {best}"
+        );
+        assert!(strata.max_rel < 1e-3, "{name}: {strata:?}");
+    }
+}
+
+/// Secondary rays leaving a surface at grazing angles (within 0.6° of the
+/// tangent plane). The course starts them at the hit point with t_min =
+/// 1e-6 and they re-hit their own sphere; Strata's spawn origin never does,
+/// and a ray spawned inward reaches the far side.
+#[test]
+fn spawned_rays_do_not_self_intersect() {
+    let spheres = [
+        Sphere::new(Vec3::new(0.0, -100.5, -1.0), 100.0),
+        Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0),
+        Sphere::new(Vec3::new(3.3, 0.2, -7.1), 0.2),
+        Sphere::new(Vec3::new(1.0, 0.0, -1.0), 0.5),
+        Sphere::new(Vec3::new(1e4, 3e3, -2e4), 1.0),
+    ];
+    let mut rng = Pcg32::new(5, STREAM);
+    let mut u = || Vec2::new(next_f32(&mut rng), next_f32(&mut rng));
+    let (mut course_self_hits, mut trials, mut inward_checked) = (0, 0, 0);
+    for s in &spheres {
+        for _ in 0..100_000 {
+            let n = sample_uniform_sphere(u()).normalize();
+            // A hit point as a renderer computes it: rounded, near the surface.
+            let p = s.center + n * s.radius;
+            let v = u();
+            let local = sample_uniform_hemisphere(Vec2::new(v.x * 0.01, v.y));
+            let out = Onb::from_normal(n).to_world(local).normalize();
+            trials += 1;
+
+            let o = s.spawn_origin(p, true);
+            assert_eq!(
+                intersect_sphere(&Ray::new(o, out), s),
+                None,
+                "self-hit leaving {s:?} at {p}"
+            );
+
+            // Inward, the ray must cross to the far side (a chord of
+            // 2 r cos θ); at an exactly tangent direction there is no
+            // chord, so only chords well above the offset are checked.
+            let inward = -out;
+            let chord = 2.0 * s.radius * inward.dot(-n);
+            if chord > 100.0 * s.offset_bound() {
+                let oi = s.spawn_origin(p, false);
+                let t = intersect_sphere(&Ray::new(oi, inward), s);
+                assert!(
+                    t.is_some_and(|t| t > 0.5 * chord),
+                    "inward from {p} on {s:?}: {t:?}"
+                );
+                inward_checked += 1;
+            }
+
+            let course = Ray::new(p, out).with_range(1e-6, f32::INFINITY);
+            course_self_hits += intersect_sphere(&course, s).is_some() as usize;
+        }
+    }
+    let frac = course_self_hits as f64 / trials as f64;
+    println!("course t_min = 1e-6: {course_self_hits} self-hits of {trials} ({frac:.3})");
+    assert!(frac > 0.1, "D9 should show: {frac}");
+    assert!(inward_checked > trials / 2, "{inward_checked} of {trials}");
+}
