@@ -232,9 +232,72 @@ pub struct Hit {
     pub sphere: u32,
 }
 
-/// The first root of the sphere in `(t_min, t_max)`, or `+∞` for a miss:
-/// the one kernel behind every query (see the module docs for the formula).
-/// Written once for `f32` and `f32x8` so all paths agree bit for bit.
+/// The first stage of the kernel: everything up to the discriminant.
+/// `valid` is false where no root can exist (`Δ < 0`, radius `≤ 0`, NaN),
+/// so a caller may skip [`sphere_roots`] when no lane is valid: it would
+/// return `+∞` there.
+#[derive(Clone, Copy)]
+pub(crate) struct Quadratic<L: Lanes> {
+    b: L,
+    c: L,
+    disc: L,
+    valid: L::Mask,
+}
+
+/// Stage one (see the module docs for the formula). Written once for `f32`
+/// and `f32x8` so all paths agree bit for bit.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sphere_quadratic<L: Lanes>(
+    ox: L,
+    oy: L,
+    oz: L,
+    dx: L,
+    dy: L,
+    dz: L,
+    cx: L,
+    cy: L,
+    cz: L,
+    r: L,
+) -> Quadratic<L> {
+    let fx = ox - cx;
+    let fy = oy - cy;
+    let fz = oz - cz;
+    let b = fx * dx + fy * dy + fz * dz;
+    let lx = fx - b * dx;
+    let ly = fy - b * dy;
+    let lz = fz - b * dz;
+    let r2 = r * r;
+    let ff = fx * fx + fy * fy + fz * fz;
+    let c = ff - r2;
+    // The better-conditioned discriminant for where the origin is.
+    let far_origin = ff.ge(L::splat(4.0) * r2);
+    let disc = L::select(far_origin, r2 - (lx * lx + ly * ly + lz * lz), b * b - c);
+    let valid = L::and(r.gt(L::splat(0.0)), disc.ge(L::splat(0.0)));
+    Quadratic { b, c, disc, valid }
+}
+
+/// Stage two: the first root in `(t_min, t_max)`, or `+∞` for a miss.
+#[inline(always)]
+pub(crate) fn sphere_roots<L: Lanes>(k: Quadratic<L>, t_min: L, t_max: L) -> L {
+    let root = k.disc.sqrt();
+    let q = L::select(k.b.gt(L::splat(0.0)), -k.b - root, -k.b + root);
+    let t0 = k.c / q;
+    // near/far by compare and select, so a NaN root is rejected alike on
+    // every path (f32::min and SIMD min disagree on NaN).
+    let t0_first = t0.lt(q);
+    let near = L::select(t0_first, t0, q);
+    let far = L::select(t0_first, q, t0);
+    let near_ok = L::and(k.valid, L::and(near.gt(t_min), near.lt(t_max)));
+    let far_ok = L::and(k.valid, L::and(far.gt(t_min), far.lt(t_max)));
+    L::select(
+        near_ok,
+        near,
+        L::select(far_ok, far, L::splat(f32::INFINITY)),
+    )
+}
+
+/// The whole kernel, skipping stage two when no lane can hit.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sphere_t<L: Lanes>(
@@ -251,35 +314,12 @@ pub(crate) fn sphere_t<L: Lanes>(
     t_min: L,
     t_max: L,
 ) -> L {
-    let zero = L::splat(0.0);
-    let fx = ox - cx;
-    let fy = oy - cy;
-    let fz = oz - cz;
-    let b = fx * dx + fy * dy + fz * dz;
-    let lx = fx - b * dx;
-    let ly = fy - b * dy;
-    let lz = fz - b * dz;
-    let r2 = r * r;
-    let ff = fx * fx + fy * fy + fz * fz;
-    let c = ff - r2;
-    let far_origin = ff.ge(L::splat(4.0) * r2);
-    let disc = L::select(far_origin, r2 - (lx * lx + ly * ly + lz * lz), b * b - c);
-    let root = disc.sqrt();
-    let q = L::select(b.gt(zero), -b - root, -b + root);
-    let t0 = c / q;
-    // near/far by compare and select, so a NaN root is rejected alike on
-    // every path (f32::min and SIMD min disagree on NaN).
-    let t0_first = t0.lt(q);
-    let near = L::select(t0_first, t0, q);
-    let far = L::select(t0_first, q, t0);
-    let valid = L::and(r.gt(zero), disc.ge(zero));
-    let near_ok = L::and(valid, L::and(near.gt(t_min), near.lt(t_max)));
-    let far_ok = L::and(valid, L::and(far.gt(t_min), far.lt(t_max)));
-    L::select(
-        near_ok,
-        near,
-        L::select(far_ok, far, L::splat(f32::INFINITY)),
-    )
+    let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
+    if L::any(k.valid) {
+        sphere_roots(k, t_min, t_max)
+    } else {
+        L::splat(f32::INFINITY)
+    }
 }
 
 /// The scalar kernel on a ray and a sphere.

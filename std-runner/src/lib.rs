@@ -1,19 +1,25 @@
-//! The library behind the `strata` command. The renderer, scene files and
-//! benchmarks land here; for now it reports what the core build offers.
+//! The library behind the `strata` command. The renderer and scene files
+//! land here; for now it holds the benchmark workloads.
 
-/// One line describing this build: the crate version and the core it links.
+pub mod workload;
+
+/// One line describing this build: the version and the SIMD level its
+/// kernels run on.
 #[must_use]
 pub fn version_line() -> String {
     format!(
-        "strata {} (core: no_std sampling)",
-        env!("CARGO_PKG_VERSION")
+        "strata {} (simd: {})",
+        env!("CARGO_PKG_VERSION"),
+        strata::trace::simd_level().name()
     )
 }
 
 #[cfg(test)]
 mod tests {
     #[test]
-    fn version_line_names_the_version() {
-        assert!(super::version_line().contains(env!("CARGO_PKG_VERSION")));
+    fn version_line_names_the_version_and_simd_level() {
+        let line = super::version_line();
+        assert!(line.contains(env!("CARGO_PKG_VERSION")));
+        assert!(line.contains(strata::trace::simd_level().name()));
     }
 }

@@ -31,6 +31,8 @@ pub(crate) trait Lanes:
     fn gt(self, rhs: Self) -> Self::Mask;
     fn ge(self, rhs: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Whether any lane of the mask is set.
+    fn any(mask: Self::Mask) -> bool;
     /// `if mask { a } else { b }` per lane.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
 }
@@ -60,6 +62,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn and(a: bool, b: bool) -> bool {
         a & b
+    }
+    #[inline(always)]
+    fn any(mask: bool) -> bool {
+        mask
     }
     #[inline(always)]
     fn select(mask: bool, a: Self, b: Self) -> Self {
@@ -92,6 +98,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn and(a: f32x8, b: f32x8) -> f32x8 {
         a & b
+    }
+    #[inline(always)]
+    fn any(mask: f32x8) -> bool {
+        mask.to_bitmask() != 0
     }
     #[inline(always)]
     fn select(mask: f32x8, a: Self, b: Self) -> Self {

@@ -1,0 +1,152 @@
+//! The fixed workloads that both `strata bench` and the criterion benches
+//! run: the reference sphere layouts, camera rays and incoherent rays, all
+//! generated from fixed seeds so every run traces the same rays.
+
+use glam::{DVec3, Vec2, Vec3};
+use strata::mapping::sample_uniform_sphere;
+use strata::rng::{Pcg32, next_f32};
+use strata::trace::{Ray, Sphere};
+
+/// The course's week-09 scene: the r = 100 ground at (0, −100.5, −1) and
+/// three r = 0.5 spheres at x = −1, 0, 1 (`scenes/course.csv`).
+#[must_use]
+pub fn course_spheres() -> Vec<Sphere> {
+    vec![
+        Sphere::new(Vec3::new(0.0, -100.5, -1.0), 100.0),
+        Sphere::new(Vec3::new(-1.0, 0.0, -1.0), 0.5),
+        Sphere::new(Vec3::new(0.0, 0.0, -1.0), 0.5),
+        Sphere::new(Vec3::new(1.0, 0.0, -1.0), 0.5),
+    ]
+}
+
+/// The cover of *Ray Tracing in One Weekend*, geometry only
+/// (`scenes/cover.csv`, 485 spheres): the r = 1000 ground; for `a` then
+/// `b` in −11..=10, a r = 0.2 sphere at `(a + 0.9 u₁, 0.2, b + 0.9 u₂)`
+/// kept if farther than 0.9 from (4, 0.2, 0), with `u₁, u₂` drawn (both,
+/// before the test) from PCG32 seeded as `pcg32_srandom(42, 54)` as
+/// `(next_u32 >> 8) · 2⁻²⁴`; centres in `f64`, rounded to `f32`; then the
+/// three r = 1 spheres.
+#[must_use]
+pub fn cover_spheres() -> Vec<Sphere> {
+    let mut rng = Pcg32::new(42, 54);
+    let mut out = vec![Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0)];
+    for a in -11..=10 {
+        for b in -11..=10 {
+            let u1 = next_f32(&mut rng) as f64;
+            let u2 = next_f32(&mut rng) as f64;
+            let c = DVec3::new(a as f64 + 0.9 * u1, 0.2, b as f64 + 0.9 * u2);
+            if (c - DVec3::new(4.0, 0.2, 0.0)).length() > 0.9 {
+                out.push(Sphere::new(c.as_vec3(), 0.2));
+            }
+        }
+    }
+    for x in [0.0, -4.0, 4.0] {
+        out.push(Sphere::new(Vec3::new(x, 1.0, 0.0), 1.0));
+    }
+    out
+}
+
+/// A pinhole view: where the camera is, what it looks at, and its
+/// vertical field of view in degrees.
+#[derive(Clone, Copy, Debug)]
+pub struct View {
+    /// Eye position.
+    pub from: Vec3,
+    /// Point looked at.
+    pub at: Vec3,
+    /// Vertical field of view, degrees.
+    pub vfov: f32,
+}
+
+/// The course's camera: from (−2, 2, 1) to (0, 0, −1), 60°.
+pub const COURSE_VIEW: View = View {
+    from: Vec3::new(-2.0, 2.0, 1.0),
+    at: Vec3::new(0.0, 0.0, -1.0),
+    vfov: 60.0,
+};
+
+/// The cover's camera: from (13, 2, 3) to the origin, 20°.
+pub const COVER_VIEW: View = View {
+    from: Vec3::new(13.0, 2.0, 3.0),
+    at: Vec3::ZERO,
+    vfov: 20.0,
+};
+
+/// Unit-direction camera rays through the pixel centres of a `width ×
+/// height` image, in raster order (rows top to bottom), with `up = +y`.
+#[must_use]
+pub fn camera_rays(view: View, width: u32, height: u32) -> Vec<Ray> {
+    let w = (view.from - view.at).normalize();
+    let u = Vec3::Y.cross(w).normalize();
+    let v = w.cross(u);
+    let half_h = (view.vfov.to_radians() * 0.5).tan();
+    let half_w = half_h * width as f32 / height as f32;
+    let mut rays = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let p = Vec2::new(
+                (x as f32 + 0.5) / width as f32,
+                (y as f32 + 0.5) / height as f32,
+            );
+            let d = u * ((2.0 * p.x - 1.0) * half_w) + v * ((1.0 - 2.0 * p.y) * half_h) - w;
+            rays.push(Ray::new(view.from, d.normalize()));
+        }
+    }
+    rays
+}
+
+/// `n` incoherent rays: origins uniform in the box `[lo, hi]`, directions
+/// uniform on the sphere, from a PCG32 with `seed`.
+#[must_use]
+pub fn random_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Ray> {
+    let mut rng = Pcg32::new(seed, strata::rng::STREAM);
+    (0..n)
+        .map(|_| {
+            let t = Vec3::new(next_f32(&mut rng), next_f32(&mut rng), next_f32(&mut rng));
+            let o = lo + (hi - lo) * t;
+            let d = sample_uniform_sphere(Vec2::new(next_f32(&mut rng), next_f32(&mut rng)));
+            Ray::new(o, d.normalize())
+        })
+        .collect()
+}
+
+/// The box incoherent rays start in for a scene: around the course's
+/// spheres, or the cover's `[−11, 11] × [0, 2] × [−11, 11]`.
+#[must_use]
+pub fn ray_box(cover: bool) -> (Vec3, Vec3) {
+    if cover {
+        (Vec3::new(-11.0, 0.0, -11.0), Vec3::new(11.0, 2.0, 11.0))
+    } else {
+        (Vec3::new(-2.0, -0.5, -2.0), Vec3::new(2.0, 1.0, 1.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn camera_rays_are_unit_and_centred() {
+        let rays = camera_rays(COURSE_VIEW, 320, 180);
+        assert_eq!(rays.len(), 320 * 180);
+        assert!(rays.iter().all(|r| (r.dir.length() - 1.0).abs() < 1e-6));
+        // The image centre looks at the target.
+        let mid = camera_rays(COURSE_VIEW, 1, 1)[0];
+        let want = (COURSE_VIEW.at - COURSE_VIEW.from).normalize();
+        assert!((mid.dir - want).length() < 1e-6);
+        // Row 0 is the top of the image.
+        assert!(rays[0].dir.y > rays[rays.len() - 1].dir.y);
+    }
+
+    #[test]
+    fn random_rays_fill_their_box() {
+        let (lo, hi) = ray_box(true);
+        let rays = random_rays(10_000, lo, hi, 1);
+        assert!(
+            rays.iter()
+                .all(|r| r.origin.cmpge(lo).all() && r.origin.cmple(hi).all())
+        );
+        let mean = rays.iter().map(|r| r.dir).sum::<Vec3>() / rays.len() as f32;
+        assert!(mean.length() < 0.05, "{mean}");
+    }
+}
