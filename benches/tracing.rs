@@ -18,49 +18,27 @@ struct Workload {
     rays: Vec<Ray>,
 }
 
+/// Camera rays (coherent) and random rays (incoherent) for both scenes.
 fn workloads() -> Vec<Workload> {
-    let scenes: [(&str, Vec<Sphere>, View, (u32, u32), usize, bool); 2] = [
-        (
-            "course",
-            course_spheres(),
-            COURSE_VIEW,
-            (320, 180),
-            65_536,
-            false,
-        ),
-        (
-            "cover",
-            cover_spheres(),
-            COVER_VIEW,
-            (160, 90),
-            16_384,
-            true,
-        ),
-    ];
-    let mut out = Vec::new();
-    for (name, spheres, view, (w, h), n, cover) in scenes {
+    let camera = |name, spheres, view: View, (w, h)| Workload {
+        name,
+        spheres,
+        rays: camera_rays(view, w, h),
+    };
+    let random = |name, spheres, n, cover| {
         let (lo, hi) = ray_box(cover);
-        out.push(Workload {
-            name: if cover {
-                "cover_camera"
-            } else {
-                "course_camera"
-            },
-            spheres: spheres.clone(),
-            rays: camera_rays(view, w, h),
-        });
-        out.push(Workload {
-            name: if cover {
-                "cover_random"
-            } else {
-                "course_random"
-            },
+        Workload {
+            name,
             spheres,
             rays: random_rays(n, lo, hi, 11),
-        });
-        let _ = name;
-    }
-    out
+        }
+    };
+    vec![
+        camera("course_camera", course_spheres(), COURSE_VIEW, (320, 180)),
+        random("course_random", course_spheres(), 65_536, false),
+        camera("cover_camera", cover_spheres(), COVER_VIEW, (160, 90)),
+        random("cover_random", cover_spheres(), 16_384, true),
+    ]
 }
 
 fn intersect(c: &mut Criterion) {
