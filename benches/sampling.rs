@@ -40,7 +40,8 @@ fn mappings(c: &mut Criterion) {
     run3("uniform_sphere", &mapping::sample_uniform_sphere);
     run3("uniform_hemisphere", &mapping::sample_uniform_hemisphere);
     run3("cosine_hemisphere", &mapping::sample_cosine_hemisphere);
-    run3("uniform_cone", &|u| mapping::sample_uniform_cone(u, 0.8));
+    let cone = mapping::Cone::from_cos(0.8);
+    run3("uniform_cone", &|u| mapping::sample_uniform_cone(u, cone));
     run3("invert_cosine_hemisphere", &|u| {
         let w = mapping::sample_cosine_hemisphere(u);
         mapping::invert_cosine_hemisphere(w).extend(mapping::pdf_cosine_hemisphere(w))

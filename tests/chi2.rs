@@ -6,7 +6,7 @@
 mod support;
 
 use glam::{UVec2, Vec2, Vec3};
-use strata::mapping::{self, rejection};
+use strata::mapping::{self, Cone, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::{Onb, Sampler, Stratified};
 use support::chi2::{Chi2, Domain, chi2_sf, gamma_q};
@@ -31,6 +31,8 @@ const SPHERE_RES: (usize, usize) = (51, 101);
 const DISK_RES: (usize, usize) = (51, 101);
 const CONE_COS: f32 = 0.6;
 const WIDE_CONE_COS: f32 = -0.3;
+/// sin²(10⁻³).
+const TINY_CONE_SIN2: f32 = 1e-6;
 /// A normal away from every axis, for the ONB tests.
 fn tilted() -> Vec3 {
     Vec3::new(0.3, -0.5, 0.8).normalize()
@@ -77,11 +79,23 @@ chi2_tests! {
         |rng| v2(mapping::sample_polar_disk(uniform(&mut rng))),
         |p| mapping::pdf_polar_disk(w2(p)) as f64;
     uniform_cone_chi2: Domain::Sphere { z_min: CONE_COS as f64, z_max: 1.0 }, SPHERE_RES,
-        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), CONE_COS)),
-        |p| mapping::pdf_uniform_cone(w3(p), CONE_COS) as f64;
+        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), Cone::from_cos(CONE_COS))),
+        |p| mapping::pdf_uniform_cone(w3(p), Cone::from_cos(CONE_COS)) as f64;
     uniform_cone_wide_chi2: Domain::Sphere { z_min: WIDE_CONE_COS as f64, z_max: 1.0 }, SPHERE_RES,
-        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), WIDE_CONE_COS)),
-        |p| mapping::pdf_uniform_cone(w3(p), WIDE_CONE_COS) as f64;
+        |rng| v3(mapping::sample_uniform_cone(uniform(&mut rng), Cone::from_cos(WIDE_CONE_COS))),
+        |p| mapping::pdf_uniform_cone(w3(p), Cone::from_cos(WIDE_CONE_COS)) as f64;
+    // A cone of 10⁻³ rad (a small light far away), which an f32 cosine
+    // cannot resolve: (1 − cos θ) / (1 − cos θmax), computed without
+    // cancellation, is uniform on [0, 1), and the azimuth on [0, 1).
+    tiny_cone_chi2: Domain::UNIT_SQUARE, (101, 51),
+        |rng| {
+            let cone = Cone::from_sin2(TINY_CONE_SIN2);
+            let w = mapping::sample_uniform_cone(uniform(&mut rng), cone);
+            let omz = (w.x as f64 * w.x as f64 + w.y as f64 * w.y as f64) / (1.0 + w.z as f64);
+            let phi = (w.y as f64).atan2(w.x as f64).rem_euclid(std::f64::consts::TAU);
+            [omz / cone.one_minus_cos_theta_max() as f64, phi / std::f64::consts::TAU, 0.0]
+        },
+        |p| if (0.0..=1.0).contains(&p[0]) { 1.0 } else { 0.0 };
     // The ONB carries the cosine lobe to a tilted normal intact.
     cosine_hemisphere_onb_chi2: Domain::SPHERE, SPHERE_RES,
         |rng| v3(Onb::from_normal(tilted()).to_world(
@@ -168,7 +182,7 @@ fn samples_outside_support_are_rejected() {
         || v3(mapping::sample_uniform_sphere(uniform(&mut rng))),
         |p| mapping::pdf_uniform_hemisphere(w3(p)) as f64,
     );
-    assert!(outcome.impossible > 4000, "{outcome:?}");
+    assert!(outcome.zero_density > 4000, "{outcome:?}");
     assert!(!outcome.passed());
 }
 

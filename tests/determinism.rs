@@ -116,7 +116,7 @@ fn seeds_change_every_kind() {
     assert_ne!(ga, gb);
 }
 
-const PAIR_TESTS: usize = 6;
+const PAIR_TESTS: usize = 8;
 const PAIRS: usize = 1_000_000;
 
 /// χ² of `PAIRS` value pairs on the unit square against the uniform
@@ -220,4 +220,48 @@ fn stratified_neighbour_pixels_are_independent() {
         s.start_pixel_sample(p + UVec2::X, i);
         Vec2::new(a, s.next_1d())
     });
+}
+
+/// A stratified sample's pixel position and its first bounce dimension are
+/// uncorrelated (each comes from its own shuffle).
+#[test]
+fn stratified_pixel_and_bounce_dimensions_are_independent() {
+    let mut s = Stratified::new(16, 7).unwrap();
+    check_pairs("pairs_stratified_pixel_dim2", |k| {
+        s.start_pixel_sample(pixel(k / 16), (k % 16) as u32);
+        Vec2::new(s.pixel_2d().x, s.next_1d())
+    });
+}
+
+/// Consecutive stratified dimensions are uncorrelated.
+#[test]
+fn stratified_consecutive_dimensions_are_independent() {
+    let mut s = Stratified::new(16, 7).unwrap();
+    check_pairs("pairs_stratified_dim2_dim3", |k| {
+        s.start_pixel_sample(pixel(k / 16), (k % 16) as u32);
+        Vec2::new(s.next_1d(), s.next_1d())
+    });
+}
+
+/// Stream states use every bit of the seed, the pixel and the index: no
+/// two of these inputs, which differ only in high bits, share a state.
+#[test]
+fn stream_states_use_every_input_bit() {
+    use strata::rng::stream_state;
+    let words = [0u32, 1, 1 << 16, 1 << 24, 1 << 31, u32::MAX];
+    let seeds = [0u64, 1 << 32, 1 << 63, u64::MAX];
+    let mut states = Vec::new();
+    for seed in seeds {
+        for &x in &words {
+            for &y in &words {
+                for &i in &words {
+                    states.push(stream_state(seed, UVec2::new(x, y), i));
+                }
+            }
+        }
+    }
+    let n = states.len();
+    states.sort_unstable();
+    states.dedup();
+    assert_eq!(states.len(), n, "colliding stream states");
 }

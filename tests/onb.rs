@@ -126,3 +126,25 @@ fn degenerate_normals_are_refused_or_nan() {
         assert!(c.u.is_nan() && c.v.is_nan() && c.w.is_nan(), "{n}: {c:?}");
     }
 }
+
+/// The course's helper axis switches at |w.x| = 0.9 exactly: below it the
+/// basis is built from x, above it from y (pinned on both sides).
+#[test]
+fn course_switches_helper_axis_at_0_9() {
+    for (wx, helper) in [
+        (0.85f32, Vec3::X),
+        (0.95, Vec3::Y),
+        (-0.85, Vec3::X),
+        (-0.95, Vec3::Y),
+    ] {
+        let w = Vec3::new(wx, (1.0 - wx * wx).sqrt(), 0.0);
+        let b = Onb::from_normal_axis_switch(w);
+        let v = w.cross(helper).normalize();
+        assert!(
+            (b.v - v).length() < 1e-6,
+            "w.x = {wx}: v = {} want {v}",
+            b.v
+        );
+        assert!((b.u - w.cross(v)).length() < 1e-6, "w.x = {wx}");
+    }
+}

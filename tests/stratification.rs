@@ -155,3 +155,27 @@ fn pixel_offsets_cover_the_pixel_for_any_spp() {
         );
     }
 }
+
+/// Each pass of `spp` samples is a fresh stratified set: sample `i` and
+/// sample `i + spp` of a pixel fall in the same stratum of a dimension only
+/// by chance (1 in spp), not always.
+#[test]
+fn passes_reshuffle_the_strata() {
+    let spp = 16;
+    let mut s = Stratified::new(spp, 9).unwrap();
+    let (mut same, mut total) = (0, 0);
+    for x in 0..500 {
+        for i in 0..spp {
+            let p = UVec2::new(x, 2);
+            s.start_pixel_sample(p, i);
+            let a = (s.next_1d() * spp as f32) as u32;
+            s.start_pixel_sample(p, i + spp);
+            let b = (s.next_1d() * spp as f32) as u32;
+            same += (a == b) as u32;
+            total += 1;
+        }
+    }
+    // Expected 1/16 = 0.0625 of 8000; binomial sd ≈ 0.0027.
+    let frac = same as f64 / total as f64;
+    assert!((frac - 1.0 / 16.0).abs() < 0.015, "{frac}");
+}

@@ -4,6 +4,10 @@
 //!    pcg-c-basic demo, the same check `shared/scenes/gen_scenes.py` makes.
 //! 2. The stream lock: `stream_state` and the first outputs of a few pixel
 //!    samples' streams, and the first values of each sampler kind.
+//! 3. The mapping lock: a hash of the bits every mapping (sample, pdf,
+//!    invert) and both ONBs produce on a fixed grid. It pins the `libm`
+//!    paths, so a build for another SIMD level, or another `libm`, that
+//!    rounds differently fails here.
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation: the properties (uniformity, independence, stratification,
@@ -12,8 +16,11 @@
 //! seeded render changes: update the values and add a line under "Output
 //! changes" in CHANGELOG.md.
 
-use glam::UVec2;
+use glam::{UVec2, Vec2, Vec3};
 use rand_core::Rng;
+use strata::Onb;
+use strata::mapping::*;
+use strata::rng::ONE_MINUS_EPSILON;
 use strata::rng::{Pcg32, STREAM, pixel_sample_rng, stream_state};
 use strata::sampler::{Independent, Sampler, Stratified, UniformGrid};
 
@@ -91,8 +98,8 @@ fn first_values<S: Sampler>(s: &mut S) -> [u32; 5] {
 #[test]
 fn sampler_lock() {
     let independent = [0x3eca1a4a, 0x3f3bb1f6, 0x3efbcbbc, 0x3ed05536, 0x3f7a8381];
-    let grid = [0x3ec00000, 0x3ec00000, 0x3f480000, 0x3f200000, 0x3ec00000];
-    let stratified = [0x3dca1a4a, 0x3e3bb1f6, 0x3f47de5e, 0x3f1a0aa7, 0x3efd41c0];
+    let grid = [0x3ec00000, 0x3ec00000, 0x3f180000, 0x3f600000, 0x3e000000];
+    let stratified = [0x3f194349, 0x3eddd8fb, 0x3f17de5e, 0x3f5a0aa7, 0x3e7a8381];
     assert_eq!(
         first_values(&mut Independent::new(16, 2026).unwrap()),
         independent,
@@ -107,5 +114,121 @@ fn sampler_lock() {
         first_values(&mut Stratified::new(16, 2026).unwrap()),
         stratified,
         "{CHANGED}"
+    );
+}
+
+/// FNV-1a over 32-bit words.
+fn fnv(words: impl IntoIterator<Item = u32>) -> u64 {
+    words.into_iter().fold(0xcbf2_9ce4_8422_2325u64, |h, w| {
+        w.to_le_bytes()
+            .iter()
+            .fold(h, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+    })
+}
+
+/// A 97 × 97 grid over [0, 1)², edges included.
+fn grid() -> impl Iterator<Item = Vec2> {
+    let t = |k: u32| {
+        if k == 96 {
+            ONE_MINUS_EPSILON
+        } else {
+            k as f32 / 96.0
+        }
+    };
+    (0..97).flat_map(move |i| (0..97).map(move |j| Vec2::new(t(i), t(j))))
+}
+
+fn v3(w: Vec3) -> [u32; 3] {
+    w.to_array().map(f32::to_bits)
+}
+
+fn v2(w: Vec2) -> [u32; 2] {
+    w.to_array().map(f32::to_bits)
+}
+
+#[test]
+fn mapping_lock() {
+    let cone = Cone::from_cos(0.3);
+    let tiny = Cone::from_sin2(1e-7);
+    let mut words: Vec<(&str, Vec<u32>)> = vec![];
+    let mut push = |name, f: &dyn Fn(Vec2) -> Vec<u32>| {
+        words.push((name, grid().flat_map(f).collect()));
+    };
+    push("uniform_sphere", &|u| {
+        let w = sample_uniform_sphere(u);
+        [
+            &v3(w)[..],
+            &v2(invert_uniform_sphere(w))[..],
+            &[pdf_uniform_sphere(w).to_bits()],
+        ]
+        .concat()
+    });
+    push("uniform_hemisphere", &|u| {
+        let w = sample_uniform_hemisphere(u);
+        [
+            &v3(w)[..],
+            &v2(invert_uniform_hemisphere(w))[..],
+            &[pdf_uniform_hemisphere(w).to_bits()],
+        ]
+        .concat()
+    });
+    push("cosine_hemisphere", &|u| {
+        let w = sample_cosine_hemisphere(u);
+        [
+            &v3(w)[..],
+            &v2(invert_cosine_hemisphere(w))[..],
+            &[pdf_cosine_hemisphere(w).to_bits()],
+        ]
+        .concat()
+    });
+    push("concentric_disk", &|u| {
+        let p = sample_concentric_disk(u);
+        [&v2(p)[..], &v2(invert_concentric_disk(p))[..]].concat()
+    });
+    push("polar_disk", &|u| {
+        let p = sample_polar_disk(u);
+        [&v2(p)[..], &v2(invert_polar_disk(p))[..]].concat()
+    });
+    push("uniform_cone", &|u| {
+        let w = sample_uniform_cone(u, cone);
+        let t = sample_uniform_cone(u, tiny);
+        [
+            &v3(w)[..],
+            &v2(invert_uniform_cone(w, cone))[..],
+            &v3(t)[..],
+            &v2(invert_uniform_cone(t, tiny))[..],
+        ]
+        .concat()
+    });
+    push("onb", &|u| {
+        let n = sample_uniform_sphere(u);
+        let d = Vec3::new(0.3, -0.2, 0.9);
+        [
+            &v3(Onb::from_normal(n).to_world(d))[..],
+            &v3(Onb::from_normal_axis_switch(n).to_world(d))[..],
+        ]
+        .concat()
+    });
+    let lock: [(&str, u64); 7] = [
+        ("uniform_sphere", 0x5279f840ad872859),
+        ("uniform_hemisphere", 0x45cc62c98f40e130),
+        ("cosine_hemisphere", 0x4c07d468d8455ad1),
+        ("concentric_disk", 0x31f279085367b65d),
+        ("polar_disk", 0xe05294fd831ab3ef),
+        ("uniform_cone", 0x4f943941ab533f87),
+        ("onb", 0x931b2c2f222fbe31),
+    ];
+    let mut failures = vec![];
+    for ((name, w), (lock_name, want)) in words.into_iter().zip(lock) {
+        assert_eq!(name, lock_name);
+        let got = fnv(w);
+        if got != want {
+            failures.push(format!("{name}: {got:#018x} (locked {want:#018x})"));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "mapping outputs changed:\n{}\n{CHANGED}",
+        failures.join("\n")
     );
 }

@@ -17,7 +17,9 @@
 //!   generator;
 //! - dimensions are consumed in a fixed order ([`sampler`]);
 //! - no multiply-add is fused and transcendental functions come from
-//!   `libm`, so the same inputs give the same bits on every x86-64 CPU.
+//!   `libm`, so the same inputs give the same bits on every x86-64 CPU;
+//! - the scalar and SIMD ray–sphere kernels are one function written for
+//!   both `f32` and `f32x8`, so every path returns the same hit.
 //!
 //! ## Modules
 //!
@@ -27,6 +29,7 @@
 //! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`] |
 //! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone; [`mapping::rejection`] keeps the course's methods |
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
+//! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
 //!
 //! ## Example
 //!
@@ -56,6 +59,16 @@
 //! - The course's quads and triangles are out of scope: spheres only.
 //! - Rejection samplers ([`mapping::rejection`]) consume a random count of
 //!   values, so they take their own generator and never a pixel's sampler.
+//! - The strata samplers accept at most 2²⁴ samples per pixel; a prime spp
+//!   stratifies the pixel in strips (`p × 1`).
+//! - The 8-wide kernels use 256-bit vectors; an AVX-512 build runs them on
+//!   AVX2-width registers.
+//!
+//! ## Thread safety
+//!
+//! Every type is a plain value: samplers, `Onb`, `Ray`, `Sphere`,
+//! `RayPacket8`, `HitPacket8` and `SphereSet` (a shared borrow) are `Send`
+//! and `Sync`. Give each thread its own sampler; share sphere sets freely.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs, missing_debug_implementations)]

@@ -38,6 +38,8 @@ pub mod rejection;
 const INV_4PI: f32 = FRAC_1_PI / 4.0;
 /// `1 / (2π)`.
 const INV_2PI: f32 = FRAC_1_PI / 2.0;
+/// `|p|²` of the rim of the unit disk, with the rounding of the maps.
+const DISK_RIM2: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// `sqrt(max(x, 0))`: rounding can push `1 - z²` a hair below zero. Unlike
 /// `f32::max`, it keeps a NaN a NaN.
@@ -174,6 +176,10 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
 
 /// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
 /// steradian where `w.z ≥ 0`, else `0` (and `0` for NaN).
+///
+/// A sample exactly on the rim (`w.z = 0`; about 6 in 10⁸ uniform `u`,
+/// more on the square's edges) has density 0 and contributes nothing: an
+/// estimator must skip samples whose pdf is 0 rather than divide by it.
 #[doc(alias = "square_to_cosine_hemisphere_pdf")]
 #[inline]
 #[must_use]
@@ -230,12 +236,14 @@ pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
 }
 
 /// The density of [`sample_concentric_disk`]: `1 / π` per unit area inside
-/// the closed unit disk, else `0` (and `0` for NaN).
+/// the closed unit disk, else `0` (and `0` for NaN). The disk is taken as
+/// `|p|² ≤ 1 + 4ε` (ε = `f32::EPSILON`): `r cos θ, r sin θ` can round an
+/// ulp past the rim, and such a sample must not get density 0.
 #[doc(alias = "square_to_uniform_disk_concentric_pdf")]
 #[inline]
 #[must_use]
 pub fn pdf_concentric_disk(p: Vec2) -> f32 {
-    if p.length_squared() <= 1.0 {
+    if p.length_squared() <= DISK_RIM2 {
         FRAC_1_PI
     } else {
         0.0
@@ -319,45 +327,141 @@ pub fn invert_polar_disk(p: Vec2) -> Vec2 {
 
 // ---------------------------------------------------------- uniform cone
 
-/// A direction uniform in the cone of half-angle `acos(cos_theta_max)`
-/// around `+z`: `cos θ = 1 − u₀ (1 − cos θmax)`, azimuth `2π u₁`. This is
-/// how a spherical light is sampled by the solid angle it subtends.
-/// `cos_theta_max` is clamped to `[-1, 1]` (−1 gives the whole sphere, 1 a
-/// zero-width cone whose every sample is `+z`).
+/// A cone of directions around `+z` with half-angle `θmax`, stored as
+/// `cos θmax` and `1 − cos θmax`, the second computed without
+/// cancellation, so that even a cone of a microradian (a small light far
+/// away) has an exact solid angle and pdf. Built from whichever quantity
+/// the caller knows accurately.
+///
+/// ```
+/// use strata::mapping::Cone;
+/// // A sphere of radius 1 seen from 10⁴ away: θmax = 10⁻⁴.
+/// let cone = Cone::subtended_by_sphere(1e4, 1.0).unwrap();
+/// let exact = 2.0 * core::f64::consts::PI * (1.0 - (1.0f64 - 1e-8).sqrt());
+/// assert!((cone.solid_angle() as f64 / exact - 1.0).abs() < 1e-6);
+/// // From cos θmax, that cone is lost: cos(10⁻⁴) rounds to 1 in f32.
+/// assert_eq!(Cone::from_cos(1e-4f32.cos()).solid_angle(), 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cone {
+    cos_theta_max: f32,
+    one_minus_cos: f32,
+}
+
+impl Cone {
+    /// The cone with `cos θmax = cos_theta_max`, clamped to `[−1, 1]` (−1
+    /// is the whole sphere, 1 a zero-width cone). `1 − c` is exact for
+    /// `c ≥ 0.5`, so this loses nothing the `f32` cosine still holds. A NaN
+    /// gives a cone whose samples are NaN and whose pdf is 0.
+    #[inline]
+    #[must_use]
+    pub fn from_cos(cos_theta_max: f32) -> Self {
+        let c = cos_theta_max.clamp(-1.0, 1.0);
+        Self {
+            cos_theta_max: c,
+            one_minus_cos: 1.0 - c,
+        }
+    }
+
+    /// The cone with `sin² θmax = sin2_theta_max` and `θmax ≤ 90°`
+    /// (clamped to `[0, 1]`): `1 − cos θmax = sin² / (1 + cos)`, accurate
+    /// for the tiniest cones.
+    #[inline]
+    #[must_use]
+    pub fn from_sin2(sin2_theta_max: f32) -> Self {
+        let s2 = sin2_theta_max.clamp(0.0, 1.0);
+        let c = safe_sqrt(1.0 - s2);
+        Self {
+            cos_theta_max: c,
+            one_minus_cos: s2 / (1.0 + c),
+        }
+    }
+
+    /// The cone a sphere of `radius` subtends from `distance` to its
+    /// centre: `sin² θmax = (r / d)²`. `None` when the point is inside or on
+    /// the sphere (`distance ≤ radius`), where no cone exists, or for
+    /// non-finite or negative input.
+    #[inline]
+    #[must_use]
+    pub fn subtended_by_sphere(distance: f32, radius: f32) -> Option<Self> {
+        if !(radius >= 0.0 && distance > radius && distance.is_finite()) {
+            return None;
+        }
+        let ratio = radius / distance;
+        Some(Self::from_sin2(ratio * ratio))
+    }
+
+    /// `cos θmax`.
+    #[inline]
+    #[must_use]
+    pub fn cos_theta_max(&self) -> f32 {
+        self.cos_theta_max
+    }
+
+    /// `1 − cos θmax`, without cancellation.
+    #[inline]
+    #[must_use]
+    pub fn one_minus_cos_theta_max(&self) -> f32 {
+        self.one_minus_cos
+    }
+
+    /// The solid angle `2π (1 − cos θmax)`, in steradians.
+    #[inline]
+    #[must_use]
+    pub fn solid_angle(&self) -> f32 {
+        TAU * self.one_minus_cos
+    }
+}
+
+/// `1 − z` of a unit direction without cancellation near the pole:
+/// `(x² + y²) / (1 + z)` where `z > 0`.
+#[inline]
+fn one_minus_z(w: Vec3) -> f32 {
+    if w.z > 0.0 {
+        (w.x * w.x + w.y * w.y) / (1.0 + w.z)
+    } else {
+        1.0 - w.z
+    }
+}
+
+/// A direction uniform in a [`Cone`] around `+z`: `1 − cos θ = u₀ (1 −
+/// cos θmax)`, azimuth `2π u₁`; `sin θ` comes from `1 − cos θ`, so tiny
+/// cones keep their spread. This is how a spherical light is sampled by
+/// the solid angle it subtends.
 ///
 /// See also [`pdf_uniform_cone`], [`invert_uniform_cone`].
 ///
 /// ```
 /// use glam::Vec2;
 /// use strata::mapping::*;
-/// let cos_max = 0.9;
-/// let w = sample_uniform_cone(Vec2::new(0.999, 0.2), cos_max);
-/// assert!(w.z >= cos_max && (w.length() - 1.0).abs() < 1e-6);
-/// let area = core::f32::consts::TAU * (1.0 - cos_max);
-/// assert!((pdf_uniform_cone(w, cos_max) * area - 1.0).abs() < 1e-5);
+/// let cone = Cone::from_cos(0.9);
+/// let w = sample_uniform_cone(Vec2::new(0.999, 0.2), cone);
+/// assert!(w.z >= 0.9 && (w.length() - 1.0).abs() < 1e-6);
+/// assert!((pdf_uniform_cone(w, cone) * cone.solid_angle() - 1.0).abs() < 1e-6);
+/// assert!((invert_uniform_cone(w, cone) - Vec2::new(0.999, 0.2)).abs().max_element() < 1e-5);
 /// ```
 #[doc(alias = "square_to_uniform_cone")]
 #[inline]
 #[must_use]
-pub fn sample_uniform_cone(u: Vec2, cos_theta_max: f32) -> Vec3 {
-    let c = cos_theta_max.clamp(-1.0, 1.0);
-    // (1 − u₀) + u₀ c rather than 1 − u₀(1 − c): it returns exactly c at
-    // u₀ = 1 and exactly 1 at u₀ = 0.
-    let z = (1.0 - u.x) + u.x * c;
-    spherical(z, u.y)
+pub fn sample_uniform_cone(u: Vec2, cone: Cone) -> Vec3 {
+    let omz = u.x * cone.one_minus_cos;
+    let sin_theta = safe_sqrt(omz * (2.0 - omz));
+    let (sin, cos) = libm::sincosf(TAU * u.y);
+    Vec3::new(sin_theta * cos, sin_theta * sin, 1.0 - omz)
 }
 
 /// The density of [`sample_uniform_cone`]: `1 / (2π (1 − cos θmax))` per
-/// steradian inside the cone (`w.z ≥ cos θmax`), else `0` (and `0` for NaN).
-/// For a zero-width cone (`cos_theta_max ≥ 1`) it is `+∞` on the axis: the
-/// distribution is a delta.
+/// steradian inside the cone, else `0` (and `0` for NaN). "Inside" is
+/// `1 − w.z ≤ (1 − cos θmax)(1 + 2⁻²⁰)`, with `1 − w.z` computed without
+/// cancellation: the slack absorbs the rounding of a sample at the rim.
+/// For a zero-width cone the pdf is `+∞` on the axis: a delta.
 #[doc(alias = "square_to_uniform_cone_pdf")]
 #[inline]
 #[must_use]
-pub fn pdf_uniform_cone(w: Vec3, cos_theta_max: f32) -> f32 {
-    let c = cos_theta_max.clamp(-1.0, 1.0);
-    if w.z >= c && !w.is_nan() {
-        INV_2PI / (1.0 - c)
+pub fn pdf_uniform_cone(w: Vec3, cone: Cone) -> f32 {
+    const SLACK: f32 = 1.0 + 1.0 / 1_048_576.0;
+    if one_minus_z(w) <= cone.one_minus_cos * SLACK && !w.is_nan() {
+        INV_2PI / cone.one_minus_cos
     } else {
         0.0
     }
@@ -368,11 +472,9 @@ pub fn pdf_uniform_cone(w: Vec3, cos_theta_max: f32) -> f32 {
 #[doc(alias = "uniform_cone_to_square")]
 #[inline]
 #[must_use]
-pub fn invert_uniform_cone(w: Vec3, cos_theta_max: f32) -> Vec2 {
-    let c = cos_theta_max.clamp(-1.0, 1.0);
-    let width = 1.0 - c;
-    let u0 = if width > 0.0 {
-        (1.0 - w.z) / width
+pub fn invert_uniform_cone(w: Vec3, cone: Cone) -> Vec2 {
+    let u0 = if cone.one_minus_cos > 0.0 {
+        one_minus_z(w) / cone.one_minus_cos
     } else {
         0.0
     };
@@ -410,7 +512,7 @@ mod tests {
         assert_round_trip(
             "uniform sphere",
             |u| invert_uniform_sphere(sample_uniform_sphere(u)),
-            2e-4,
+            1e-5,
         );
     }
 
@@ -419,7 +521,7 @@ mod tests {
         assert_round_trip(
             "uniform hemisphere",
             |u| invert_uniform_hemisphere(sample_uniform_hemisphere(u)),
-            2e-4,
+            1e-5,
         );
     }
 
@@ -428,7 +530,7 @@ mod tests {
         assert_round_trip(
             "cosine hemisphere",
             |u| invert_cosine_hemisphere(sample_cosine_hemisphere(u)),
-            2e-4,
+            1e-5,
         );
     }
 
@@ -437,7 +539,7 @@ mod tests {
         assert_round_trip(
             "concentric disk",
             |u| invert_concentric_disk(sample_concentric_disk(u)),
-            2e-4,
+            1e-5,
         );
     }
 
@@ -446,19 +548,27 @@ mod tests {
         assert_round_trip(
             "polar disk",
             |u| invert_polar_disk(sample_polar_disk(u)),
-            2e-4,
+            1e-5,
         );
     }
 
     #[test]
     fn uniform_cone_round_trip() {
         for c in [-0.5f32, 0.0, 0.5, 0.99] {
+            let cone = Cone::from_cos(c);
             assert_round_trip(
                 "uniform cone",
-                |u| invert_uniform_cone(sample_uniform_cone(u, c), c),
-                2e-3,
+                |u| invert_uniform_cone(sample_uniform_cone(u, cone), cone),
+                2e-5,
             );
         }
+        // A tiny cone round-trips as well as a wide one.
+        let tiny = Cone::from_sin2(1e-10);
+        assert_round_trip(
+            "tiny cone",
+            |u| invert_uniform_cone(sample_uniform_cone(u, tiny), tiny),
+            2e-5,
+        );
     }
 
     #[test]
@@ -472,10 +582,11 @@ mod tests {
             assert!(c.z >= 0.0 && (c.length() - 1.0).abs() < 1e-6, "{u}");
             assert!(sample_concentric_disk(u).length() <= 1.0 + 1e-6, "{u}");
             assert!(sample_polar_disk(u).length() <= 1.0 + 1e-6, "{u}");
-            let k = sample_uniform_cone(u, 0.7);
+            let cone = Cone::from_cos(0.7);
+            let k = sample_uniform_cone(u, cone);
             assert!(k.z >= 0.7 && (k.length() - 1.0).abs() < 1e-6, "{u}");
             assert!(pdf_cosine_hemisphere(c) >= 0.0);
-            assert!(pdf_uniform_cone(k, 0.7) > 0.0);
+            assert!(pdf_uniform_cone(k, cone) > 0.0);
         }
     }
 
@@ -486,8 +597,14 @@ mod tests {
         assert_eq!(sample_uniform_sphere(Vec2::new(0.0, 0.0)), Vec3::Z);
         assert_eq!(sample_uniform_sphere(Vec2::new(1.0, 0.0)), -Vec3::Z);
         assert_eq!(sample_uniform_hemisphere(Vec2::new(1.0, 0.0)), Vec3::Z);
-        assert_eq!(sample_uniform_cone(Vec2::new(0.0, 0.3), 0.2), Vec3::Z);
-        assert_eq!(sample_uniform_cone(Vec2::new(1.0, 0.0), 0.2).z, 0.2);
+        assert_eq!(
+            sample_uniform_cone(Vec2::new(0.0, 0.3), Cone::from_cos(0.5)),
+            Vec3::Z
+        );
+        assert_eq!(
+            sample_uniform_cone(Vec2::new(1.0, 0.0), Cone::from_cos(0.5)).z,
+            0.5
+        );
         for corner in [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE] {
             let p = sample_concentric_disk(corner);
             assert!((p.length() - 1.0).abs() < 1e-6, "{corner} -> {p}");
@@ -501,7 +618,10 @@ mod tests {
         let below = Vec3::new(0.0, 0.6, -0.8);
         assert_eq!(pdf_uniform_hemisphere(below), 0.0);
         assert_eq!(pdf_cosine_hemisphere(below), 0.0);
-        assert_eq!(pdf_uniform_cone(Vec3::new(0.6, 0.0, 0.8), 0.9), 0.0);
+        assert_eq!(
+            pdf_uniform_cone(Vec3::new(0.6, 0.0, 0.8), Cone::from_cos(0.9)),
+            0.0
+        );
         assert_eq!(pdf_concentric_disk(Vec2::new(0.8, 0.8)), 0.0);
         assert_eq!(pdf_polar_disk(Vec2::new(1.0, 0.1)), 0.0);
         let nan3 = Vec3::new(f32::NAN, 0.0, 1.0);
@@ -509,7 +629,8 @@ mod tests {
         assert_eq!(pdf_uniform_sphere(nan3), 0.0);
         assert_eq!(pdf_uniform_hemisphere(nan3), 0.0);
         assert_eq!(pdf_cosine_hemisphere(nan3), 0.0);
-        assert_eq!(pdf_uniform_cone(nan3, 0.5), 0.0);
+        assert_eq!(pdf_uniform_cone(nan3, Cone::from_cos(0.5)), 0.0);
+        assert_eq!(pdf_uniform_cone(Vec3::Z, Cone::from_cos(f32::NAN)), 0.0);
         assert_eq!(pdf_concentric_disk(nan2), 0.0);
         assert_eq!(pdf_polar_disk(nan2), 0.0);
     }
@@ -522,18 +643,51 @@ mod tests {
         assert!(sample_cosine_hemisphere(u).is_nan());
         assert!(sample_concentric_disk(u).is_nan());
         assert!(sample_polar_disk(u).is_nan());
-        assert!(sample_uniform_cone(u, 0.5).is_nan());
+        assert!(sample_uniform_cone(u, Cone::from_cos(0.5)).is_nan());
+        assert!(sample_uniform_cone(Vec2::splat(0.5), Cone::from_cos(f32::NAN)).is_nan());
     }
 
     #[test]
     fn degenerate_cone() {
         // A zero-width cone: a delta on +z with an infinite density.
-        let w = sample_uniform_cone(Vec2::new(0.7, 0.3), 1.0);
-        assert_eq!(w, Vec3::Z);
-        assert_eq!(pdf_uniform_cone(w, 1.0), f32::INFINITY);
-        assert_eq!(invert_uniform_cone(w, 1.0).x, 0.0);
+        for cone in [
+            Cone::from_cos(1.0),
+            Cone::from_sin2(0.0),
+            Cone::from_cos(2.0),
+        ] {
+            let w = sample_uniform_cone(Vec2::new(0.7, 0.3), cone);
+            assert_eq!(w, Vec3::Z);
+            assert_eq!(pdf_uniform_cone(w, cone), f32::INFINITY);
+            assert_eq!(invert_uniform_cone(w, cone).x, 0.0);
+        }
         // Out-of-range cosines are clamped: −2 is the whole sphere.
-        assert_eq!(pdf_uniform_cone(-Vec3::Z, -2.0), INV_4PI);
+        assert_eq!(pdf_uniform_cone(-Vec3::Z, Cone::from_cos(-2.0)), INV_4PI);
+        assert!(Cone::subtended_by_sphere(1.0, 1.0).is_none());
+        assert!(Cone::subtended_by_sphere(0.5, 1.0).is_none());
+        assert!(Cone::subtended_by_sphere(f32::INFINITY, 1.0).is_none());
+        assert!(Cone::subtended_by_sphere(f32::NAN, 1.0).is_none());
+        assert!(Cone::subtended_by_sphere(2.0, -1.0).is_none());
+        let c = Cone::subtended_by_sphere(2.0, 1.0).unwrap(); // θmax = 30°
+        assert!((c.cos_theta_max() - 0.75f32.sqrt()).abs() < 1e-7);
+    }
+
+    #[test]
+    fn tiny_cones_keep_their_solid_angle() {
+        for theta in [1e-6f64, 1e-5, 1e-4, 1e-3, 0.01, 0.1, 0.5, 1.0, 1.5] {
+            let cone = Cone::from_sin2(theta.sin().powi(2) as f32);
+            // 1 − cos θ = 2 sin²(θ/2): no cancellation in the reference either.
+            let exact = core::f64::consts::TAU * 2.0 * (theta / 2.0).sin().powi(2);
+            let rel = (cone.solid_angle() as f64 / exact - 1.0).abs();
+            assert!(rel < 1e-6, "θ {theta}: relative error {rel}");
+            // Its samples spread over the whole cone and stay inside it.
+            let w = sample_uniform_cone(Vec2::new(ONE_MINUS_EPSILON, 0.1), cone);
+            let angle = libm::atan2((w.x as f64).hypot(w.y as f64), w.z as f64);
+            assert!(
+                (angle / theta - 1.0).abs() < 1e-5,
+                "θ {theta}: rim at {angle}"
+            );
+            assert!(pdf_uniform_cone(w, cone) > 0.0);
+        }
     }
 
     #[test]
@@ -543,7 +697,7 @@ mod tests {
                 invert_uniform_sphere(w),
                 invert_uniform_hemisphere(w),
                 invert_cosine_hemisphere(w),
-                invert_uniform_cone(w, 0.0),
+                invert_uniform_cone(w, Cone::from_cos(0.0)),
             ] {
                 assert!(
                     u.cmpge(Vec2::ZERO).all() && u.cmplt(Vec2::ONE).all(),

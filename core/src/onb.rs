@@ -132,6 +132,13 @@ impl Onb {
     }
 
     /// The world direction of local coordinates `d`: `d.x u + d.y v + d.z w`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::onb::Onb;
+    /// let b = Onb::from_normal(Vec3::Y);
+    /// assert!((b.to_world(Vec3::Z) - Vec3::Y).length() < 1e-7); // local +z is the normal
+    /// ```
     #[inline]
     #[must_use]
     pub fn to_world(&self, d: Vec3) -> Vec3 {
@@ -140,6 +147,14 @@ impl Onb {
 
     /// The local coordinates of world direction `d`: `(d·u, d·v, d·w)`. The
     /// inverse of [`Onb::to_world`] for an orthonormal basis.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::onb::Onb;
+    /// let b = Onb::from_normal(Vec3::new(0.6, 0.0, 0.8));
+    /// // The cosine to the normal is the local z.
+    /// assert!((b.to_local(Vec3::Z).z - 0.8).abs() < 1e-6);
+    /// ```
     #[inline]
     #[must_use]
     pub fn to_local(&self, d: Vec3) -> Vec3 {

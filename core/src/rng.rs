@@ -65,7 +65,14 @@ const fn pixel_word(pixel: UVec2) -> u64 {
     pixel.x as u64 | (pixel.y as u64) << 32
 }
 
-/// The hash of `(seed, pixel)` that every per-pixel value starts from.
+/// The hash of `(seed, pixel)` that every per-pixel value starts from:
+/// `mix64(mix64(seed ^ SALT) ^ (px | py << 32))`.
+///
+/// ```
+/// use glam::UVec2;
+/// use strata::rng::pixel_hash;
+/// assert_ne!(pixel_hash(1, UVec2::new(1, 0)), pixel_hash(1, UVec2::new(0, 1)));
+/// ```
 #[inline]
 #[must_use]
 pub const fn pixel_hash(seed: u64, pixel: UVec2) -> u64 {
@@ -124,6 +131,13 @@ pub fn u32_to_unit_f32(x: u32) -> f32 {
 
 /// The next uniform float in `[0, 1)` from any `rand_core` generator, by
 /// [`u32_to_unit_f32`].
+///
+/// ```
+/// use strata::rng::{next_f32, Pcg32};
+/// let mut rng = Pcg32::new(42, 54);
+/// // The reference stream's first output is 0xa15c02b7.
+/// assert_eq!(next_f32(&mut rng), (0xa15c02b7u32 >> 8) as f32 / 16_777_216.0);
+/// ```
 #[inline]
 pub fn next_f32<R: Rng + ?Sized>(rng: &mut R) -> f32 {
     u32_to_unit_f32(rng.next_u32())

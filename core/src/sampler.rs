@@ -120,8 +120,8 @@ const fn isqrt(n: u32) -> u32 {
 }
 
 /// Kensler's hashed permutation: the image of `i` under a pseudo-random
-/// bijection of `[0, len)` chosen by `key`. `len` must be at least 1 (for
-/// `len = 0` it returns 0); `i` must be below `len`.
+/// bijection of `[0, len)` chosen by `key`. For `len ≤ 1` it returns 0;
+/// an `i ≥ len` is taken modulo `len`.
 ///
 /// ```
 /// use strata::sampler::permute;
@@ -136,6 +136,10 @@ const fn isqrt(n: u32) -> u32 {
 pub const fn permute(mut i: u32, len: u32, key: u32) -> u32 {
     if len <= 1 {
         return 0;
+    }
+    // Outside [0, len) the cycle walk need not come back: fold first.
+    if i >= len {
+        i %= len;
     }
     let p = key;
     let mut w = len - 1;
@@ -187,7 +191,8 @@ pub const fn permute(mut i: u32, len: u32, key: u32) -> u32 {
 fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
     let nf = n as f64;
     let mut v = ((s as f64 + j as f64) * inv_n) as f32;
-    // f64 products of an f32 and an integer below 2^29 are exact.
+    // An f32 (24-bit significand) times an integer below 2^29 fits the 53
+    // bits of an f64 exactly; n ≤ MAX_STRATA_SPP = 2^24.
     if v as f64 * nf >= (s + 1) as f64 {
         v = f32::from_bits(v.to_bits() - 1);
     } else if (v as f64 * nf) < s as f64 {
@@ -264,6 +269,14 @@ impl Sampler for Independent {
     }
 }
 
+/// Keeps permutation keys apart from stream states: `π − 3` in 64 bits.
+const PERMUTATION_SALT: u64 = 0x243f_6a88_85a3_08d3;
+
+/// The largest spp the strata samplers accept: beyond `2²⁴` a stratum of a
+/// 1D dimension is narrower than the `f32` spacing near 1, and "one sample
+/// per stratum" could no longer hold.
+pub const MAX_STRATA_SPP: u32 = 1 << 24;
+
 /// The state the two strata samplers share; `jitter` is the only
 /// difference between them, as in pbrt's `StratifiedSampler`.
 #[derive(Clone, Debug)]
@@ -287,7 +300,7 @@ struct Strata {
 
 impl Strata {
     fn new(spp: u32, seed: u64, jitter: bool, shuffle_pixel: bool) -> Option<Self> {
-        if spp == 0 {
+        if spp == 0 || spp > MAX_STRATA_SPP {
             return None;
         }
         let (nx, ny) = grid_dims(spp);
@@ -312,7 +325,10 @@ impl Strata {
     /// The shuffled stratum of the current sample in `dimension`.
     #[inline]
     fn stratum(&self, dimension: u32) -> u32 {
-        let key = mix64(self.pixel_key ^ (dimension as u64 | (self.pass as u64) << 32));
+        // Salted so that a key never equals a stream state
+        // (`mix64(pixel_key ^ index)`) of the same pixel.
+        let word = dimension as u64 | (self.pass as u64) << 32;
+        let key = mix64(self.pixel_key ^ PERMUTATION_SALT ^ word);
         permute(self.slot, self.spp, (key >> 32) as u32)
     }
 
@@ -351,7 +367,7 @@ impl Strata {
     #[inline]
     fn next_1d(&mut self) -> f32 {
         let stratum = self.stratum(self.dimension);
-        self.dimension += 1;
+        self.dimension = self.dimension.wrapping_add(1);
         let j = self.jitter();
         stratum_point(stratum, j, self.spp, self.inv[0])
     }
@@ -359,7 +375,7 @@ impl Strata {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         let stratum = self.stratum(self.dimension);
-        self.dimension += 2;
+        self.dimension = self.dimension.wrapping_add(2);
         self.point_2d(stratum)
     }
 }
@@ -381,7 +397,7 @@ impl Strata {
 pub struct UniformGrid(Strata);
 
 impl UniformGrid {
-    /// A grid sampler; `None` if `spp` is 0.
+    /// A grid sampler; `None` if `spp` is 0 or above [`MAX_STRATA_SPP`].
     #[inline]
     #[must_use]
     pub fn new(spp: u32, seed: u64) -> Option<Self> {
@@ -440,7 +456,8 @@ impl Sampler for UniformGrid {
 pub struct Stratified(Strata);
 
 impl Stratified {
-    /// A jittered stratified sampler; `None` if `spp` is 0.
+    /// A jittered stratified sampler; `None` if `spp` is 0 or above
+    /// [`MAX_STRATA_SPP`].
     #[inline]
     #[must_use]
     pub fn new(spp: u32, seed: u64) -> Option<Self> {
@@ -519,6 +536,9 @@ mod tests {
             }
         }
         assert_eq!(permute(0, 0, 5), 0);
+        // Out-of-range inputs fold instead of walking forever.
+        assert_eq!(permute(3, 3, 0), permute(0, 3, 0));
+        assert!(permute(u32::MAX, 1000, 7) < 1000);
     }
 
     #[test]
@@ -536,10 +556,31 @@ mod tests {
     }
 
     #[test]
-    fn zero_spp_is_refused() {
+    fn zero_and_huge_spp_are_refused() {
         assert!(Independent::new(0, 1).is_none());
         assert!(UniformGrid::new(0, 1).is_none());
         assert!(Stratified::new(0, 1).is_none());
+        assert!(Stratified::new(MAX_STRATA_SPP + 1, 1).is_none());
+        assert!(Stratified::new(MAX_STRATA_SPP, 1).is_some());
+        assert!(Independent::new(u32::MAX, 1).is_some());
+    }
+
+    #[test]
+    fn samplers_are_send_and_sync() {
+        fn assert_send_sync<T: Send + Sync + Clone + core::fmt::Debug>() {}
+        assert_send_sync::<Independent>();
+        assert_send_sync::<UniformGrid>();
+        assert_send_sync::<Stratified>();
+    }
+
+    #[test]
+    fn huge_indices_and_dimensions_do_not_panic() {
+        let mut s = Stratified::new(7, 1).unwrap();
+        s.start_pixel_sample(UVec2::new(u32::MAX, u32::MAX), u32::MAX);
+        s.0.dimension = u32::MAX - 1;
+        let v = s.next_2d();
+        assert!(v.cmplt(Vec2::ONE).all() && v.cmpge(Vec2::ZERO).all());
+        assert!((0.0..1.0).contains(&s.next_1d()));
     }
 
     #[test]

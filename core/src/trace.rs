@@ -609,6 +609,16 @@ mod tests {
     }
 
     #[test]
+    fn trace_types_are_send_and_sync() {
+        fn assert_send_sync<T: Send + Sync>() {}
+        assert_send_sync::<Ray>();
+        assert_send_sync::<Sphere>();
+        assert_send_sync::<RayPacket8>();
+        assert_send_sync::<HitPacket8>();
+        assert_send_sync::<SphereSet<'static>>();
+    }
+
+    #[test]
     fn simd_level_matches_target_features() {
         let level = simd_level();
         assert_eq!(
