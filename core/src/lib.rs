@@ -76,6 +76,7 @@
 
 pub mod mapping;
 pub mod onb;
+pub mod render;
 pub mod rng;
 pub mod sampler;
 pub mod trace;

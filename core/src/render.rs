@@ -1,0 +1,29 @@
+//! Rendering: where sampling and tracing meet. A camera, textures,
+//! materials, sphere lights and a background make a [`Scene`];
+//! [`render_tile`] traces paths through it into the caller's [`PixelSum`]
+//! buffer.
+//!
+//! Everything is borrowed and nothing allocates: the caller owns the
+//! spheres, their 8-wide chunks, the materials, the texels of image
+//! textures, the light list and the film.
+//!
+//! See [`integrator`](self::render_tile) for the path, the dimension
+//! layout and the depth convention, [`film`](PixelSum) for the exact
+//! accumulation, and [`Material`] for each model and how it differs from
+//! the course's.
+
+mod camera;
+mod film;
+mod integrator;
+mod material;
+mod scene;
+mod texture;
+
+pub use camera::{Camera, CameraDesc, CameraError};
+pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum, to_fixed};
+pub use integrator::{
+    RenderError, RenderSettings, Tile, pixel_sample, power_heuristic, render_tile,
+};
+pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
+pub use scene::{Background, Scene, SceneError, collect_lights};
+pub use texture::{ImageTexture, Texture, sphere_uv};

@@ -1,0 +1,124 @@
+//! The film: exact per-pixel sums, so a pixel's value never depends on
+//! how its samples were split, ordered or distributed over threads.
+//!
+//! Floating-point addition is not associative; integer addition is. Each
+//! sample's RGB is clamped to `±MAX_SAMPLE_VALUE`, scaled by `2^24` and
+//! rounded to an `i64` ([`to_fixed`]), and the sums are integers. Merging
+//! two partial films is integer addition, so one run of samples `[0, b)`
+//! gives the same bits as runs `[0, a)` and `[a, b)` merged, in any order.
+//!
+//! Range and resolution: a sample value is kept to `2⁻²⁴ ≈ 6·10⁻⁸` (far
+//! below what an 8-bit or half-float image resolves) and clamped at
+//! `2^16 = 65536`; a pixel holds up to `2²³` samples of that maximum, and
+//! far more of ordinary radiance, before its sum saturates (it saturates
+//! rather than wrapping). A sample with a NaN or infinite channel is
+//! counted in `dropped` and not summed; the mean is over the samples kept.
+
+use glam::Vec3;
+
+/// Fixed-point scale: one unit is `2⁻²⁴`.
+pub const FILM_SCALE: f32 = 16_777_216.0;
+
+/// Sample values are clamped to `[−MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE]`
+/// before summing (negative values come from filters with negative lobes).
+pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
+
+/// `x` in film units: `round(clamp(x) · 2²⁴)`, exact and the same on every
+/// CPU (the scaling is by a power of two, the rounding is `libm`'s).
+///
+/// ```
+/// use strata::render::{to_fixed, FILM_SCALE};
+/// assert_eq!(to_fixed(1.0), FILM_SCALE as i64);
+/// assert_eq!(to_fixed(-0.5), -(FILM_SCALE as i64) / 2);
+/// assert_eq!(to_fixed(1e30), to_fixed(65_536.0));
+/// ```
+#[inline]
+#[must_use]
+pub fn to_fixed(x: f32) -> i64 {
+    libm::roundf(x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE) as i64
+}
+
+/// One pixel's exact accumulator: fixed-point RGB sums and sample counts.
+/// 32 bytes; `Copy`, `Send`, `Sync`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PixelSum {
+    /// Sum of the kept samples' RGB in units of `2⁻²⁴`.
+    pub sum: [i64; 3],
+    /// Samples summed.
+    pub samples: u32,
+    /// Samples dropped for a NaN or infinite channel.
+    pub dropped: u32,
+}
+
+const _: () = assert!(core::mem::size_of::<PixelSum>() == 32);
+
+impl PixelSum {
+    /// No samples.
+    pub const ZERO: PixelSum = PixelSum {
+        sum: [0; 3],
+        samples: 0,
+        dropped: 0,
+    };
+
+    /// Adds one sample (or counts it as dropped if not finite).
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let mut a = PixelSum::ZERO;
+    /// a.add_sample(Vec3::new(0.1, 0.2, 0.3));
+    /// a.add_sample(Vec3::new(f32::NAN, 0.0, 0.0));
+    /// assert_eq!((a.samples, a.dropped), (1, 1));
+    /// assert!((a.mean() - Vec3::new(0.1, 0.2, 0.3)).abs().max_element() < 1e-7);
+    /// ```
+    #[inline]
+    pub fn add_sample(&mut self, v: Vec3) {
+        if !v.is_finite() {
+            self.dropped = self.dropped.saturating_add(1);
+            return;
+        }
+        for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
+            *s = s.saturating_add(to_fixed(x));
+        }
+        self.samples = self.samples.saturating_add(1);
+    }
+
+    /// Adds another accumulator of the same pixel: exact, commutative and
+    /// associative.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let (mut a, mut b, mut all) = (PixelSum::ZERO, PixelSum::ZERO, PixelSum::ZERO);
+    /// for (i, v) in [0.1f32, 0.7, 1e-3, 5.0].into_iter().enumerate() {
+    ///     let s = Vec3::splat(v);
+    ///     all.add_sample(s);
+    ///     if i % 2 == 0 { a.add_sample(s) } else { b.add_sample(s) }
+    /// }
+    /// b.merge(&a);
+    /// assert_eq!(b, all); // the same bits, whatever the split
+    /// ```
+    #[inline]
+    pub fn merge(&mut self, other: &PixelSum) {
+        for (s, o) in self.sum.iter_mut().zip(other.sum) {
+            *s = s.saturating_add(o);
+        }
+        self.samples = self.samples.saturating_add(other.samples);
+        self.dropped = self.dropped.saturating_add(other.dropped);
+    }
+
+    /// The mean of the kept samples as linear RGB (black with none).
+    #[inline]
+    #[must_use]
+    pub fn mean(&self) -> Vec3 {
+        if self.samples == 0 {
+            return Vec3::ZERO;
+        }
+        let k = 1.0 / (FILM_SCALE as f64 * self.samples as f64);
+        Vec3::new(
+            (self.sum[0] as f64 * k) as f32,
+            (self.sum[1] as f64 * k) as f32,
+            (self.sum[2] as f64 * k) as f32,
+        )
+    }
+}

@@ -1,0 +1,359 @@
+//! The path tracer and tile rendering.
+//!
+//! # One camera path
+//!
+//! ```text
+//! sampler.start_pixel_sample(pixel, index)
+//! ray = camera.ray(pixel, sampler.pixel_2d(), sampler.next_2d())   dims 0-1, 2-3
+//! for segment 1..=max_depth:
+//!     closest hit (camera rays: 8-ray packets; the rest: 1 ray × 8 spheres)
+//!     miss      -> add background, stop
+//!     emitter   -> add emission (MIS-weighted after a smooth bounce), stop
+//!     last segment -> stop (no direct light whose BSDF twin is not traced)
+//!     draw scatter 2D, lobe 1D, light-choice 1D, light 2D           6 dims
+//!     smooth material -> direct light from one sphere light (MIS)
+//!     sample the material, multiply the throughput, spawn the next ray
+//! ```
+//!
+//! Every vertex draws its six dimensions whether or not it uses them, so a
+//! dimension's index never depends on the path taken.
+//!
+//! **max_depth** is the number of ray segments from the camera (the
+//! course's, RTIOW's and Mitsuba's convention, COURSE.md D8): 1 sees only
+//! what camera rays hit; shadow rays do not count. No Russian roulette: a
+//! path still bouncing after `max_depth` segments ends black.
+//!
+//! **Direct lighting** picks one light uniformly, samples the cone its
+//! sphere subtends ([`sample_uniform_cone`]), and traces a shadow ray
+//! ([`any_hit_1x8`]) that stops at the light: one blocker is enough and
+//! nothing beyond the light counts (the course's D1 counted hits). BSDF
+//! samples that hit a light are weighted against it by the power
+//! heuristic, so no emission is counted twice (the course's D7).
+//!
+//! A sample's radiance depends only on (scene, camera, sampler, seed,
+//! pixel, index): [`render_tile`] gives every pixel the same bits whatever
+//! the tile, the order or the thread, and camera-ray packets return the
+//! same hits as single rays.
+
+use core::ops::Range;
+
+use glam::{UVec2, Vec3};
+
+use super::camera::Camera;
+use super::film::PixelSum;
+use super::material::{Lobe, SurfaceHit};
+use super::scene::Scene;
+use super::texture::sphere_uv;
+use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
+use crate::onb::Onb;
+use crate::sampler::Sampler;
+use crate::trace::{
+    Hit, HitPacket8, Ray, RayPacket8, any_hit_1x8, closest_hit_1x8, closest_hit_x8,
+    intersect_sphere,
+};
+
+/// How paths are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderSettings {
+    /// Ray segments from the camera, at least 1.
+    pub max_depth: u32,
+    /// Next-event estimation from sphere lights (the course's "direct
+    /// lighting"); without it lights are found by BSDF sampling alone.
+    pub direct_lighting: bool,
+}
+
+/// A rectangle of the image: `width × height` pixels from `(x0, y0)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    /// Left column.
+    pub x0: u32,
+    /// Top row.
+    pub y0: u32,
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+}
+
+impl Tile {
+    /// Pixels in the tile.
+    #[inline]
+    #[must_use]
+    pub fn area(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+/// Why a tile could not be rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RenderError {
+    /// `max_depth` is 0.
+    MaxDepth,
+    /// The tile is empty or reaches outside the camera's image.
+    Tile,
+    /// The film slice does not have one entry per tile pixel.
+    FilmSize {
+        /// Entries needed: the tile's area.
+        needed: usize,
+        /// Entries given.
+        provided: usize,
+    },
+}
+
+/// The power heuristic (β = 2): the weight of a strategy with density `a`
+/// against one with density `b`.
+///
+/// ```
+/// use strata::render::power_heuristic;
+/// assert_eq!(power_heuristic(1.0, 1.0), 0.5);
+/// assert_eq!(power_heuristic(3.0, 0.0), 1.0);
+/// assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+/// ```
+#[inline]
+#[must_use]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
+
+/// The surface record of a hit.
+#[inline]
+fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit) -> SurfaceHit {
+    let s = scene.spheres()[hit.sphere as usize];
+    let p = ray.at(hit.t);
+    let outward = (p - s.center).normalize_or_zero();
+    let front_face = ray.dir.dot(outward) < 0.0;
+    SurfaceHit {
+        p,
+        n: if front_face { outward } else { -outward },
+        front_face,
+        uv: sphere_uv(outward),
+    }
+}
+
+/// The density, per steradian, with which direct lighting from `p` picks a
+/// direction towards light sphere `light` (0 from inside it).
+#[inline]
+fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
+    let s = scene.spheres()[light as usize];
+    match Cone::subtended_by_sphere((s.center - p).length(), s.radius) {
+        Some(cone) => pdf_uniform_cone(Vec3::Z, cone) / scene.lights().len() as f32,
+        None => 0.0,
+    }
+}
+
+/// Direct light at a smooth vertex from one light chosen by `u_choice`,
+/// towards a direction drawn by `u_dir`; MIS-weighted against the BSDF.
+#[inline]
+fn direct_light(
+    scene: &Scene<'_>,
+    ray: &Ray,
+    hit: Hit,
+    surf: &SurfaceHit,
+    u_choice: f32,
+    u_dir: glam::Vec2,
+) -> Vec3 {
+    let lights = scene.lights();
+    let k = ((u_choice * lights.len() as f32) as usize).min(lights.len() - 1);
+    let light = scene.spheres()[lights[k] as usize];
+    let to_light = light.center - surf.p;
+    let dist = to_light.length();
+    let Some(cone) = Cone::subtended_by_sphere(dist, light.radius) else {
+        return Vec3::ZERO;
+    };
+    let local = sample_uniform_cone(u_dir, cone);
+    let wi = Onb::from_normal(to_light / dist).to_world(local);
+    let material = scene.material_of(hit.sphere);
+    let (f_cos, bsdf_pdf) = material.eval(ray.dir, surf, wi);
+    if f_cos == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    // The shadow ray leaves on the side the shading normal faces.
+    let here = scene.spheres()[hit.sphere as usize];
+    let shadow = Ray::new(here.spawn_origin(surf.p, surf.front_face), wi);
+    let Some(t_light) = intersect_sphere(&shadow, &light) else {
+        return Vec3::ZERO; // grazed the rim by rounding
+    };
+    if any_hit_1x8(&shadow.with_range(0.0, t_light), scene.set()) {
+        return Vec3::ZERO;
+    }
+    let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
+    let emit = scene.material_of(lights[k]).emitted();
+    f_cos * emit * (power_heuristic(pdf, bsdf_pdf) / pdf)
+}
+
+/// The radiance of one camera path that starts with `ray`, whose first
+/// hit (`first`) is already known. The sampler is positioned after the
+/// camera's four dimensions.
+fn trace_path<S: Sampler>(
+    scene: &Scene<'_>,
+    sampler: &mut S,
+    settings: &RenderSettings,
+    mut ray: Ray,
+    first: Option<Hit>,
+) -> Vec3 {
+    let mut radiance = Vec3::ZERO;
+    let mut throughput = Vec3::ONE;
+    // The last bounce: where it left from and its BSDF density (None for
+    // the camera and specular bounces, whose emission hits count fully).
+    let mut last_smooth: Option<(Vec3, f32)> = None;
+    let nee = settings.direct_lighting && !scene.lights().is_empty();
+    let mut hit = first;
+    for segment in 1..=settings.max_depth {
+        if segment > 1 {
+            hit = closest_hit_1x8(&ray, scene.set());
+        }
+        let Some(h) = hit else {
+            radiance += throughput * scene.background().radiance(ray.dir);
+            break;
+        };
+        let material = scene.material_of(h.sphere);
+        if material.is_light() {
+            let weight = match last_smooth {
+                Some((p, bsdf_pdf)) if nee => {
+                    power_heuristic(bsdf_pdf, light_pdf(scene, p, h.sphere))
+                }
+                _ => 1.0,
+            };
+            radiance += throughput * material.emitted() * weight;
+            break;
+        }
+        if segment == settings.max_depth {
+            break;
+        }
+        let surf = surface(scene, &ray, h);
+        let u_scatter = sampler.next_2d();
+        let u_lobe = sampler.next_1d();
+        let u_choice = sampler.next_1d();
+        let u_light = sampler.next_2d();
+        if nee && material.is_smooth() {
+            radiance += throughput * direct_light(scene, &ray, h, &surf, u_choice, u_light);
+        }
+        let Some(s) = material.sample(ray.dir, &surf, u_scatter, u_lobe) else {
+            break;
+        };
+        throughput *= s.weight;
+        if throughput == Vec3::ZERO {
+            break;
+        }
+        last_smooth = match s.lobe {
+            Lobe::Smooth { pdf } => Some((surf.p, pdf)),
+            Lobe::Specular => None,
+        };
+        let sphere = scene.spheres()[h.sphere as usize];
+        let outside = surf.front_face != s.transmitted;
+        ray = Ray::new(sphere.spawn_origin(surf.p, outside), s.wi);
+    }
+    radiance
+}
+
+/// The camera ray of sample `index` of `pixel`; leaves the sampler after
+/// the camera's dimensions (pixel 0–1, lens 2–3).
+#[inline]
+fn camera_ray<S: Sampler>(camera: &Camera, sampler: &mut S, pixel: UVec2, index: u32) -> Ray {
+    sampler.start_pixel_sample(pixel, index);
+    let offset = sampler.pixel_2d();
+    let lens = sampler.next_2d();
+    camera.ray(pixel, offset, lens)
+}
+
+/// The radiance of sample `index` of `pixel`, one ray at a time: the
+/// reference that [`render_tile`] must equal bit for bit.
+///
+/// ```
+/// use glam::{UVec2, Vec3};
+/// use strata::render::*;
+/// use strata::trace::{chunks_for, Sphere, SphereChunk8, SphereSet};
+/// use strata::Independent;
+/// // A white furnace: a white diffuse sphere under a sky of radiance 1.
+/// let spheres = [Sphere::new(Vec3::ZERO, 1.0)];
+/// let mut storage = [SphereChunk8::EMPTY; 1];
+/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
+/// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) }];
+/// let scene = Scene::new(&spheres, set, &materials, &[0], &[], Background::Flat(Vec3::ONE)).unwrap();
+/// let desc = CameraDesc {
+///     look_from: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y,
+///     vfov_deg: 30.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
+/// };
+/// let camera = Camera::new(&desc, 8, 8).unwrap();
+/// let settings = RenderSettings { max_depth: 50, direct_lighting: true };
+/// let mut sampler = Independent::new(1, 7).unwrap();
+/// let l = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
+/// assert!((l - Vec3::ONE).abs().max_element() < 1e-5); // every path sees 1
+/// ```
+#[inline]
+pub fn pixel_sample<S: Sampler>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &mut S,
+    settings: &RenderSettings,
+    pixel: UVec2,
+    index: u32,
+) -> Vec3 {
+    let ray = camera_ray(camera, sampler, pixel, index);
+    let first = closest_hit_1x8(&ray, scene.set());
+    trace_path(scene, sampler, settings, ray, first)
+}
+
+/// Renders samples `samples` of every pixel of `tile` and adds them to
+/// `film` (row-major over the tile, one [`PixelSum`] per pixel), in place:
+/// a film may collect several runs. Camera rays of up to 8 neighbouring
+/// pixels are traced as one packet. The result equals calling
+/// [`pixel_sample`] for every pixel and index and adding the values with
+/// [`PixelSum::add_sample`].
+///
+/// `sampler` is the prototype: its kind, spp and seed are used, its
+/// current position is not.
+#[inline]
+pub fn render_tile<S: Sampler + Clone>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+    samples: Range<u32>,
+    film: &mut [PixelSum],
+) -> Result<(), RenderError> {
+    if settings.max_depth == 0 {
+        return Err(RenderError::MaxDepth);
+    }
+    let size = camera.size();
+    let inside = tile.width > 0
+        && tile.height > 0
+        && tile.x0.checked_add(tile.width).is_some_and(|x| x <= size.x)
+        && tile
+            .y0
+            .checked_add(tile.height)
+            .is_some_and(|y| y <= size.y);
+    if !inside {
+        return Err(RenderError::Tile);
+    }
+    if film.len() != tile.area() {
+        return Err(RenderError::FilmSize {
+            needed: tile.area(),
+            provided: film.len(),
+        });
+    }
+    let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
+    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+    for row in 0..tile.height {
+        let y = tile.y0 + row;
+        let mut col = 0;
+        while col < tile.width {
+            let n = (tile.width - col).min(8) as usize;
+            for index in samples.clone() {
+                for (l, (s, r)) in lanes.iter_mut().zip(rays.iter_mut()).take(n).enumerate() {
+                    *r = camera_ray(camera, s, UVec2::new(tile.x0 + col + l as u32, y), index);
+                }
+                let mut hits = HitPacket8::NONE;
+                closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), scene.set(), &mut hits);
+                for l in 0..n {
+                    let v = trace_path(scene, &mut lanes[l], settings, rays[l], hits.hit(l));
+                    film[(row * tile.width + col) as usize + l].add_sample(v);
+                }
+            }
+            col += n as u32;
+        }
+    }
+    Ok(())
+}

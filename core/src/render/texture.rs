@@ -1,0 +1,126 @@
+//! Textures: a solid colour, the course's 3-D checker, and an image read
+//! from a borrowed slice of linear RGB texels.
+
+use glam::{Vec2, Vec3};
+
+/// An image texture over borrowed texels: `width × height` linear RGB
+/// values, row 0 at the top. Lookups are nearest-texel, with `(u, v)`
+/// clamped to `[0, 1]` and `v` flipped as in *Ray Tracing in One Weekend*
+/// (`v = 1` is the top row), so `u = 1` reads the last column rather than
+/// past it (COURSE.md D16). The caller decodes 8-bit sRGB files to linear.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageTexture<'a> {
+    width: u32,
+    height: u32,
+    texels: &'a [Vec3],
+}
+
+impl<'a> ImageTexture<'a> {
+    /// A texture over `texels` (`width × height` of them, row-major);
+    /// `None` if a side is 0 or the slice has another length.
+    ///
+    /// ```
+    /// use glam::{Vec2, Vec3};
+    /// use strata::render::{ImageTexture, Texture};
+    /// // 2 × 1: red on the left, blue on the right.
+    /// let texels = [Vec3::X, Vec3::Z];
+    /// let t = Texture::Image(ImageTexture::new(2, 1, &texels).unwrap());
+    /// assert_eq!(t.value(Vec2::new(0.1, 0.5), Vec3::ZERO), Vec3::X);
+    /// assert_eq!(t.value(Vec2::new(1.0, 0.5), Vec3::ZERO), Vec3::Z);
+    /// assert_eq!(t.value(Vec2::NAN, Vec3::ZERO), Vec3::X);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn new(width: u32, height: u32, texels: &'a [Vec3]) -> Option<Self> {
+        let n = (width as usize).checked_mul(height as usize)?;
+        (width > 0 && height > 0 && texels.len() == n).then_some(Self {
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// The texel nearest to `uv` (see the type docs).
+    #[inline]
+    #[must_use]
+    pub fn lookup(&self, uv: Vec2) -> Vec3 {
+        // A NaN stays NaN through clamp and casts to index 0: a NaN uv
+        // reads the top-left texel.
+        let u = uv.x.clamp(0.0, 1.0);
+        let v = 1.0 - uv.y.clamp(0.0, 1.0);
+        let i = ((u * self.width as f32) as u32).min(self.width - 1);
+        let j = ((v * self.height as f32) as u32).min(self.height - 1);
+        self.texels[(j * self.width + i) as usize]
+    }
+}
+
+/// A colour as a function of the surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Texture<'a> {
+    /// One colour everywhere.
+    Solid(Vec3),
+    /// The course's solid 3-D checker: the parity of `⌊x/s⌋ + ⌊y/s⌋ +
+    /// ⌊z/s⌋` at the world-space point picks `even` or `odd`. On a curved
+    /// surface the `y` term makes the course's rings and seams; keep it 3-D
+    /// to match the course.
+    Checker {
+        /// Cell size `s`, `> 0`.
+        scale: f32,
+        /// Colour where the sum is even.
+        even: Vec3,
+        /// Colour where the sum is odd.
+        odd: Vec3,
+    },
+    /// An image mapped by the sphere's `(u, v)`.
+    Image(ImageTexture<'a>),
+}
+
+impl Texture<'_> {
+    /// The colour at surface coordinates `uv` and world point `p`.
+    ///
+    /// ```
+    /// use glam::{Vec2, Vec3};
+    /// use strata::render::Texture;
+    /// let c = Texture::Checker { scale: 1.0, even: Vec3::ZERO, odd: Vec3::ONE };
+    /// // Negative cells alternate too (floor, not truncation).
+    /// assert_eq!(c.value(Vec2::ZERO, Vec3::new(0.5, 0.5, 0.5)), Vec3::ZERO);
+    /// assert_eq!(c.value(Vec2::ZERO, Vec3::new(-0.5, 0.5, 0.5)), Vec3::ONE);
+    /// assert_eq!(c.value(Vec2::ZERO, Vec3::new(-1.5, 0.5, 0.5)), Vec3::ZERO);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn value(&self, uv: Vec2, p: Vec3) -> Vec3 {
+        match self {
+            Texture::Solid(c) => *c,
+            Texture::Checker { scale, even, odd } => {
+                let cell = |x: f32| libm::floorf(x / scale) as i64;
+                // Saturating casts keep huge or NaN points from panicking.
+                let sum = cell(p.x).wrapping_add(cell(p.y)).wrapping_add(cell(p.z));
+                if sum & 1 == 0 { *even } else { *odd }
+            }
+            Texture::Image(img) => img.lookup(uv),
+        }
+    }
+}
+
+/// The course's sphere `(u, v)` of an outward unit normal `n`: `θ =
+/// acos(−n_y)`, `φ = atan2(−n_z, n_x) + π`, `u = φ / 2π`, `v = θ / π`, with
+/// `n_y` clamped to `[−1, 1]` so a pole never takes `acos` out of its
+/// domain (COURSE.md D14).
+///
+/// ```
+/// use glam::{Vec2, Vec3};
+/// use strata::render::sphere_uv;
+/// assert_eq!(sphere_uv(Vec3::new(0.0, -1.0, 0.0)).y, 0.0);
+/// // A pole whose n_y rounded past 1 still maps (acos would give NaN).
+/// assert!((sphere_uv(Vec3::new(0.0, 1.0000001, 0.0)).y - 1.0).abs() < 1e-6);
+/// assert!((sphere_uv(Vec3::X) - Vec2::new(0.5, 0.5)).length() < 1e-6);
+/// ```
+#[inline]
+#[must_use]
+pub fn sphere_uv(n: Vec3) -> Vec2 {
+    use core::f32::consts::{FRAC_1_PI, PI};
+    let theta = libm::acosf((-n.y).clamp(-1.0, 1.0));
+    let phi = libm::atan2f(-n.z, n.x) + PI;
+    Vec2::new(phi * (0.5 * FRAC_1_PI), theta * FRAC_1_PI)
+}
