@@ -1,6 +1,12 @@
-//! The library behind the `strata` command. The renderer and scene files
-//! land here; for now it holds the benchmark workloads.
+//! The library behind the `strata` command: the command line, built-in
+//! scenes and TOML scene files, the parallel renderer, image files, and
+//! the benchmark workloads.
 
+pub mod cli;
+pub mod image_io;
+pub mod render;
+pub mod scene_file;
+pub mod scenes;
 pub mod workload;
 
 /// One line describing this build: the version and the SIMD level its

@@ -1,14 +1,14 @@
-//! `strata`: parses arguments and dispatches to `strata_runner`.
+//! `strata`: parses the command line and dispatches to `strata_runner`.
+
+use clap::Parser;
 
 fn main() -> std::process::ExitCode {
-    match std::env::args().nth(1).as_deref() {
-        None | Some("--version") | Some("-V") => {
-            println!("{}", strata_runner::version_line());
-            std::process::ExitCode::SUCCESS
-        }
-        Some(other) => {
-            eprintln!("error: unknown command `{other}`: only --version exists in this build");
-            std::process::ExitCode::from(2)
+    let cli = strata_runner::cli::Cli::parse();
+    match strata_runner::cli::main_with(cli) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
         }
     }
 }

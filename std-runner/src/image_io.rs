@@ -1,0 +1,258 @@
+//! Images in and out: 8-bit PNG (sRGB by default, or the course's gamma 2)
+//! with text metadata, linear OpenEXR, and PNG textures decoded to linear
+//! RGB. Output goes to a temporary file beside the target, renamed into
+//! place only when complete, so a failure leaves nothing behind.
+//!
+//! Transfer functions use `libm`, so the same render gives the same bytes
+//! on every machine.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+
+use crate::scenes::Image;
+
+/// How linear radiance becomes 8-bit values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Transfer {
+    /// The sRGB curve, rounded (the default; a PNG `sRGB` chunk says so).
+    Srgb,
+    /// The course's curve: `⌊255 · min(√v, 0.999)⌋` (COURSE.md D15), with
+    /// a `gAMA` chunk of 1/2.
+    #[value(name = "2")]
+    Gamma2,
+}
+
+/// The sRGB encoding of a linear value in `[0, 1]` (clamped).
+pub fn srgb_encode(v: f32) -> f32 {
+    let v = v.clamp(0.0, 1.0);
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * libm::powf(v, 1.0 / 2.4) - 0.055
+    }
+}
+
+/// The linear value of an sRGB-encoded value in `[0, 1]`.
+pub fn srgb_decode(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        libm::powf((c + 0.055) / 1.055, 2.4)
+    }
+}
+
+/// A linear value as an 8-bit code under `transfer`.
+pub fn to_u8(v: f32, transfer: Transfer) -> u8 {
+    let v = if v.is_nan() { 0.0 } else { v };
+    match transfer {
+        Transfer::Srgb => libm::roundf(srgb_encode(v) * 255.0) as u8,
+        Transfer::Gamma2 => (255.0 * libm::sqrtf(v.max(0.0)).min(0.999)) as u8,
+    }
+}
+
+/// Whether `path` names an output this program can write, checked before
+/// any rendering: a `.png` or `.exr` name whose directory exists and
+/// accepts a new file. Leaves nothing behind.
+pub fn check_output(path: &Path) -> Result<()> {
+    match extension(path).as_deref() {
+        Some("png" | "exr") => {}
+        _ => bail!("output `{}` must end in .png or .exr", path.display()),
+    }
+    if path.is_dir() {
+        bail!("output `{}` is a directory", path.display());
+    }
+    let probe = temp_path(path);
+    std::fs::File::create(&probe)
+        .with_context(|| format!("cannot write output `{}`", path.display()))?;
+    std::fs::remove_file(&probe).ok();
+    Ok(())
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// `dir/.name.strata-tmp-PID` beside the target.
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.strata-tmp-{}", std::process::id()))
+}
+
+/// Writes through `write` into a temporary file and renames it to `path`;
+/// on any error the temporary file is removed and `path` is untouched.
+fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path);
+    let result = write(&tmp).and_then(|()| {
+        std::fs::rename(&tmp, path)
+            .with_context(|| format!("cannot move output into `{}`", path.display()))
+    });
+    if result.is_err() {
+        std::fs::remove_file(&tmp).ok();
+    }
+    result
+}
+
+/// Writes `pixels` (linear RGB, row-major) to `path` as PNG or EXR by its
+/// extension, with `metadata` as PNG text chunks or EXR comments.
+pub fn write_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    transfer: Transfer,
+    metadata: &[(String, String)],
+) -> Result<()> {
+    assert_eq!(pixels.len(), (width * height) as usize);
+    match extension(path).as_deref() {
+        Some("png") => write_atomic(path, |tmp| {
+            write_png(tmp, width, height, pixels, transfer, metadata)
+        }),
+        Some("exr") => write_atomic(path, |tmp| write_exr(tmp, width, height, pixels, metadata)),
+        _ => bail!("output `{}` must end in .png or .exr", path.display()),
+    }
+}
+
+fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    transfer: Transfer,
+    metadata: &[(String, String)],
+) -> Result<()> {
+    let file = std::fs::File::create(path)
+        .with_context(|| format!("cannot create `{}`", path.display()))?;
+    let mut enc = png::Encoder::new(BufWriter::new(file), width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    match transfer {
+        Transfer::Srgb => enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual),
+        Transfer::Gamma2 => enc.set_source_gamma(png::ScaledFloat::new(0.5)),
+    }
+    for (k, v) in metadata {
+        enc.add_text_chunk(k.clone(), v.clone())?;
+    }
+    let mut writer = enc.write_header()?;
+    let bytes: Vec<u8> = pixels
+        .iter()
+        .flat_map(|p| {
+            [
+                to_u8(p.x, transfer),
+                to_u8(p.y, transfer),
+                to_u8(p.z, transfer),
+            ]
+        })
+        .collect();
+    writer.write_image_data(&bytes)?;
+    writer.finish()?;
+    Ok(())
+}
+
+fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    metadata: &[(String, String)],
+) -> Result<()> {
+    use exr::prelude::*;
+    let w = width as usize;
+    let channels = SpecificChannels::rgb(|pos: Vec2<usize>| {
+        let p = pixels[pos.y() * w + pos.x()];
+        (p.x, p.y, p.z)
+    });
+    // One text attribute holds all metadata: exr keeps custom attributes in
+    // a hash map whose order would vary between runs.
+    let comments: String = metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
+    let mut attributes = LayerAttributes::named("rgb");
+    attributes.comments = Some(Text::from(comments.as_str()));
+    attributes.software_name = Some(Text::from(
+        format!("strata {}", env!("CARGO_PKG_VERSION")).as_str(),
+    ));
+    let layer = Layer::new(
+        (w, height as usize),
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        channels,
+    );
+    let image = exr::image::Image::from_layer(layer);
+    image
+        .write()
+        .non_parallel()
+        .to_file(path)
+        .with_context(|| format!("cannot write `{}`", path.display()))?;
+    Ok(())
+}
+
+/// Reads a PNG (8- or 16-bit, grey, grey-alpha, RGB or RGBA; alpha is
+/// ignored) and decodes its sRGB values to linear RGB.
+pub fn read_png_linear(path: &Path) -> Result<Image> {
+    let file = std::fs::File::open(path).context("cannot open")?;
+    let mut dec = png::Decoder::new(std::io::BufReader::new(file));
+    dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = dec.read_info().context("not a PNG")?;
+    let size = reader.output_buffer_size().context("image too large")?;
+    let mut buf = vec![0; size];
+    let info = reader.next_frame(&mut buf).context("corrupt PNG")?;
+    let (width, height) = (info.width, info.height);
+    let step = match info.color_type {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => bail!("indexed PNG was not expanded"),
+    };
+    let decode: Vec<f32> = (0..=255u8).map(|c| srgb_decode(c as f32 / 255.0)).collect();
+    let mut texels = Vec::with_capacity((width * height) as usize);
+    for row in buf[..info.buffer_size()].chunks(info.line_size) {
+        for px in row.chunks(step).take(width as usize) {
+            let (r, g, b) = if step < 3 {
+                (px[0], px[0], px[0])
+            } else {
+                (px[0], px[1], px[2])
+            };
+            texels.push(Vec3::new(
+                decode[r as usize],
+                decode[g as usize],
+                decode[b as usize],
+            ));
+        }
+    }
+    Ok(Image {
+        width,
+        height,
+        texels,
+    })
+}
+
+/// Flushes stdout, ignoring a closed pipe.
+pub fn flush_stdout() {
+    std::io::stdout().flush().ok();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transfer_curves() {
+        assert_eq!(to_u8(0.0, Transfer::Srgb), 0);
+        assert_eq!(to_u8(1.0, Transfer::Srgb), 255);
+        assert_eq!(to_u8(0.214_041, Transfer::Srgb), 128); // mid-grey
+        assert_eq!(to_u8(5.0, Transfer::Srgb), 255);
+        assert_eq!(to_u8(f32::NAN, Transfer::Srgb), 0);
+        // The course's: sqrt, clamp to 0.999, truncate: 1.0 gives 254.
+        assert_eq!(to_u8(1.0, Transfer::Gamma2), 254);
+        assert_eq!(to_u8(0.25, Transfer::Gamma2), 127);
+        for c in 0..=255u8 {
+            let v = srgb_decode(c as f32 / 255.0);
+            assert_eq!(to_u8(v, Transfer::Srgb), c, "round trip of {c}");
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! Rendering a whole image: the scene's core structures built once, tiles
+//! spread over a rayon pool of exactly the requested number of threads.
+//! Pixels do not depend on the thread count, the tile size or the order
+//! in which tiles finish: each tile renders into its own film and the
+//! films are placed, not summed.
+
+use std::ops::Range;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow};
+use rayon::prelude::*;
+use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, collect_lights, render_tile};
+use strata::trace::{SphereChunk8, SphereSet, chunks_for};
+use strata::{Independent, Sampler, Stratified, UniformGrid};
+
+use crate::scenes::SceneData;
+
+/// The pixel samplers the command line offers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplerKind {
+    /// Uniform random positions (the course's `render()`).
+    Independent,
+    /// Unjittered strata centres (aliases on purpose).
+    Grid,
+    /// Jittered strata for any spp (the course's `render_jittered`, fixed).
+    Stratified,
+}
+
+impl SamplerKind {
+    /// The name used on the command line and in metadata.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Independent => "independent",
+            SamplerKind::Grid => "grid",
+            SamplerKind::Stratified => "stratified",
+        }
+    }
+}
+
+/// One render: what, at what size, how.
+#[derive(Clone, Debug)]
+pub struct Job<'a> {
+    /// The scene.
+    pub scene: &'a SceneData,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Samples per pixel (the sampler's pattern size).
+    pub spp: u32,
+    /// Sample indices to render, within `0..spp` for a whole render.
+    pub samples: Range<u32>,
+    /// Ray segments per path.
+    pub max_depth: u32,
+    /// Pixel sampler.
+    pub sampler: SamplerKind,
+    /// Seed of every sample stream.
+    pub seed: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Tile side in pixels.
+    pub tile: u32,
+    /// Next-event estimation from sphere lights.
+    pub direct_lighting: bool,
+}
+
+/// A finished render.
+#[derive(Debug)]
+pub struct Rendered {
+    /// One accumulator per pixel, row-major.
+    pub pixels: Vec<PixelSum>,
+    /// Wall-clock time of the tracing.
+    pub wall: Duration,
+    /// Camera paths traced.
+    pub paths: u64,
+}
+
+/// The tiles of a `width × height` image, row-major.
+pub fn tiles(width: u32, height: u32, side: u32) -> Vec<Tile> {
+    let mut out = Vec::new();
+    for y0 in (0..height).step_by(side as usize) {
+        for x0 in (0..width).step_by(side as usize) {
+            out.push(Tile {
+                x0,
+                y0,
+                width: side.min(width - x0),
+                height: side.min(height - y0),
+            });
+        }
+    }
+    out
+}
+
+/// Renders `job`, calling `progress` with each finished tile's pixel count.
+pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
+    let data = job.scene;
+    let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(data.spheres.len())];
+    let set = SphereSet::build(&data.spheres, &mut chunks).map_err(|e| anyhow!("{e:?}"))?;
+    let materials = data.materials();
+    let mut lights = vec![0u32; data.spheres.len()];
+    let n = collect_lights(&materials, &data.sphere_material, &mut lights)
+        .ok_or_else(|| anyhow!("a sphere names a missing material"))?;
+    lights.truncate(n);
+    let scene = Scene::new(
+        &data.spheres,
+        set,
+        &materials,
+        &data.sphere_material,
+        &lights,
+        data.background,
+    )
+    .map_err(|e| anyhow!("scene `{}` is invalid: {e:?}", data.name))?;
+    let camera = Camera::new(&data.camera, job.width, job.height)
+        .map_err(|e| anyhow!("camera of `{}`: {e:?}", data.name))?;
+    let settings = RenderSettings {
+        max_depth: job.max_depth,
+        direct_lighting: job.direct_lighting,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(job.threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    let start = Instant::now();
+    let films = pool.install(|| match job.sampler {
+        SamplerKind::Independent => render_all(
+            job,
+            &scene,
+            &camera,
+            &settings,
+            Independent::new(job.spp, job.seed),
+            progress,
+        ),
+        SamplerKind::Grid => render_all(
+            job,
+            &scene,
+            &camera,
+            &settings,
+            UniformGrid::new(job.spp, job.seed),
+            progress,
+        ),
+        SamplerKind::Stratified => render_all(
+            job,
+            &scene,
+            &camera,
+            &settings,
+            Stratified::new(job.spp, job.seed),
+            progress,
+        ),
+    })?;
+    let wall = start.elapsed();
+    let mut pixels = vec![PixelSum::ZERO; job.width as usize * job.height as usize];
+    for (tile, film) in films {
+        for row in 0..tile.height {
+            let src = &film[(row * tile.width) as usize..][..tile.width as usize];
+            let at = ((tile.y0 + row) * job.width + tile.x0) as usize;
+            pixels[at..at + tile.width as usize].copy_from_slice(src);
+        }
+    }
+    let paths = job.width as u64 * job.height as u64 * job.samples.len() as u64;
+    Ok(Rendered {
+        pixels,
+        wall,
+        paths,
+    })
+}
+
+fn render_all<S: Sampler + Clone + Send + Sync>(
+    job: &Job<'_>,
+    scene: &Scene<'_>,
+    camera: &Camera,
+    settings: &RenderSettings,
+    sampler: Option<S>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<(Tile, Vec<PixelSum>)>> {
+    let sampler = sampler.ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?;
+    tiles(job.width, job.height, job.tile)
+        .into_par_iter()
+        .map(|tile| {
+            let mut film = vec![PixelSum::ZERO; tile.area()];
+            render_tile(
+                scene,
+                camera,
+                &sampler,
+                settings,
+                tile,
+                job.samples.clone(),
+                &mut film,
+            )
+            .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
+            progress(tile.area() as u64);
+            Ok((tile, film))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_the_image_once() {
+        for (w, h, s) in [(320, 180, 32), (7, 5, 3), (1, 1, 64), (100, 3, 7)] {
+            let mut hit = vec![0u8; (w * h) as usize];
+            for t in tiles(w, h, s) {
+                for y in t.y0..t.y0 + t.height {
+                    for x in t.x0..t.x0 + t.width {
+                        hit[(y * w + x) as usize] += 1;
+                    }
+                }
+            }
+            assert!(hit.iter().all(|&k| k == 1), "{w}x{h}/{s}");
+        }
+    }
+}

@@ -1,0 +1,455 @@
+//! The `strata` command run as a process: bit-identical images across
+//! thread counts, tile sizes and runs; seeds matter; TOML scenes with
+//! every material and an image texture; and every kind of bad input
+//! refused with a clear message, a non-zero exit and no file left behind.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn strata(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the strata binary runs")
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = strata(dir, args);
+    assert!(
+        out.status.success(),
+        "strata {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs a command that must fail; returns its stderr. Checks the exit
+/// code and that the directory holds exactly the files it held before.
+fn refused(dir: &Path, args: &[&str]) -> String {
+    let before = listing(dir);
+    let out = strata(dir, args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        !out.status.success(),
+        "strata {args:?} succeeded but should not"
+    );
+    assert_ne!(out.status.code(), Some(0));
+    assert_eq!(listing(dir), before, "strata {args:?} left files behind");
+    assert!(!err.trim().is_empty(), "no message for {args:?}");
+    assert!(!err.contains("panicked"), "a panic for {args:?}: {err}");
+    err
+}
+
+fn listing(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    v.sort();
+    v
+}
+
+fn bytes(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn no_arguments_render_week09() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(dir.path(), &[]);
+    assert!(out.contains("week09: 320x180 30 spp"), "{out}");
+    let png = bytes(&dir.path().join("week09.png"));
+    assert_eq!(&png[1..4], b"PNG");
+    assert_eq!(listing(dir.path()).len(), 1, "only the image is written");
+}
+
+#[test]
+fn threads_tiles_and_runs_give_identical_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "render",
+        "--scene",
+        "showcase",
+        "--width",
+        "96",
+        "--spp",
+        "4",
+        "--sampler",
+        "stratified",
+    ];
+    let run = |name: &str, extra: &[&str]| {
+        let mut args: Vec<&str> = base.to_vec();
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", name]);
+        ok(dir.path(), &args);
+        bytes(&dir.path().join(name))
+    };
+    let one = run("t1.png", &["--threads", "1"]);
+    assert_eq!(run("t2.png", &["--threads", "2"]), one, "1 vs 2 threads");
+    assert_eq!(
+        run("tile7.png", &["--threads", "2", "--tile", "7"]),
+        one,
+        "tile 7"
+    );
+    assert_eq!(
+        run("tile64.png", &["--threads", "3", "--tile", "64"]),
+        one,
+        "tile 64"
+    );
+    assert_eq!(run("again.png", &["--threads", "1"]), one, "a second run");
+    assert_ne!(run("seed.png", &["--seed", "1"]), one, "another seed");
+    // EXR too.
+    let a = run("a.exr", &["--threads", "1"]);
+    assert_eq!(run("b.exr", &["--threads", "2", "--tile", "5"]), a);
+    assert_eq!(&a[..4], &[0x76, 0x2f, 0x31, 0x01], "EXR magic");
+}
+
+#[test]
+fn png_metadata_defines_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    ok(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--spp", "2", "--seed", "9", "-o", "m.png",
+        ],
+    );
+    let text = String::from_utf8_lossy(&bytes(&dir.path().join("m.png"))).into_owned();
+    for want in [
+        "strata.seed",
+        "9",
+        "strata.spp",
+        "strata.sampler",
+        "independent",
+        "strata.scene_hash",
+    ] {
+        assert!(text.contains(want), "missing {want}");
+    }
+    // Nothing that varies between runs.
+    assert!(!text.contains("strata.threads") && !text.contains("wall"));
+}
+
+#[test]
+fn gamma_2_is_the_course_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    ok(
+        dir.path(),
+        &["render", "--width", "32", "--spp", "2", "-o", "s.png"],
+    );
+    ok(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--spp", "2", "--gamma", "2", "-o", "g.png",
+        ],
+    );
+    assert_ne!(
+        bytes(&dir.path().join("s.png")),
+        bytes(&dir.path().join("g.png"))
+    );
+}
+
+const SCENE: &str = r#"
+background = [0.1, 0.1, 0.12]
+
+[camera]
+look_from = [0.0, 1.0, 3.0]
+look_at = [0.0, 0.0, 0.0]
+vfov = 50.0
+
+[render]
+width = 48
+spp = 4
+max_depth = 6
+
+[textures.checker]
+kind = "checker"
+scale = 0.5
+even = [0.2, 0.2, 0.2]
+odd = [0.9, 0.9, 0.9]
+
+[textures.picture]
+kind = "image"
+path = "picture.png"
+
+[materials.ground]
+kind = "lambertian"
+texture = "checker"
+
+[materials.globe]
+kind = "lambertian"
+texture = "picture"
+
+[materials.blinn]
+kind = "blinn"
+albedo = [0.4, 0.5, 0.4]
+kd = 0.5
+ks = 0.6
+exponent = 8.0
+
+[materials.phong]
+kind = "phong"
+albedo = [0.8, 0.5, 0.4]
+kd = 0.5
+ks = 0.2
+exponent = 30.0
+
+[materials.nblinn]
+kind = "blinn_normalized"
+albedo = [0.8, 0.5, 0.8]
+kd = 0.5
+ks = 0.5
+exponent = 40.0
+
+[materials.nphong]
+kind = "phong_normalized"
+texture = "checker"
+kd = 0.5
+ks = 0.3
+exponent = 10.0
+
+[materials.ct]
+kind = "cook_torrance"
+albedo = [0.7, 0.2, 0.2]
+kd = 0.6
+ks = 0.4
+alpha = 0.3
+ior = 1.5
+
+[materials.mirror]
+kind = "mirror"
+albedo = [0.9, 0.9, 0.9]
+
+[materials.metal]
+kind = "metal"
+albedo = [0.8, 0.6, 0.2]
+roughness = 0.3
+
+[materials.glass]
+kind = "dielectric"
+ior = 1.5
+
+[materials.lamp]
+kind = "light"
+emit = [10.0, 10.0, 10.0]
+
+[[spheres]]
+center = [0.0, -100.5, 0.0]
+radius = 100.0
+material = "ground"
+
+[[spheres]]
+center = [-1.0, 0.0, 0.0]
+radius = 0.5
+material = "globe"
+
+[[spheres]]
+center = [0.0, 0.0, 0.0]
+radius = 0.5
+material = "blinn"
+
+[[spheres]]
+center = [1.0, 0.0, 0.0]
+radius = 0.5
+material = "glass"
+
+[[spheres]]
+center = [-0.5, 0.0, -1.0]
+radius = 0.4
+material = "metal"
+
+[[spheres]]
+center = [0.5, 0.0, -1.0]
+radius = 0.4
+material = "mirror"
+
+[[spheres]]
+center = [1.5, 0.0, -1.0]
+radius = 0.4
+material = "ct"
+
+[[spheres]]
+center = [-1.5, 0.0, -1.0]
+radius = 0.4
+material = "phong"
+
+[[spheres]]
+center = [0.0, 0.0, -2.0]
+radius = 0.4
+material = "nblinn"
+
+[[spheres]]
+center = [1.0, 0.0, -2.0]
+radius = 0.4
+material = "nphong"
+
+[[spheres]]
+center = [0.0, 2.0, 0.0]
+radius = 0.3
+material = "lamp"
+"#;
+
+/// Writes the scene file and its 4 × 2 image texture.
+fn scene_dir() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), SCENE).unwrap();
+    let file = std::fs::File::create(dir.path().join("picture.png")).unwrap();
+    let mut enc = png::Encoder::new(file, 4, 2);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header().unwrap();
+    w.write_image_data(
+        &[255u8, 0, 0]
+            .repeat(4)
+            .into_iter()
+            .chain([0u8, 0, 255].repeat(4))
+            .collect::<Vec<u8>>(),
+    )
+    .unwrap();
+    w.finish().unwrap();
+    dir
+}
+
+#[test]
+fn toml_scene_with_every_material_renders() {
+    let dir = scene_dir();
+    let out = ok(
+        dir.path(),
+        &["render", "--scene", "scene.toml", "-o", "s.png"],
+    );
+    assert!(out.contains("scene: 48x27 4 spp"), "{out}");
+    let a = bytes(&dir.path().join("s.png"));
+    ok(
+        dir.path(),
+        &[
+            "render",
+            "--scene",
+            "scene.toml",
+            "--threads",
+            "1",
+            "--tile",
+            "3",
+            "-o",
+            "t.png",
+        ],
+    );
+    assert_eq!(bytes(&dir.path().join("t.png")), a);
+}
+
+/// Replaces the first occurrence of `from` in the scene text.
+fn broken(dir: &Path, from: &str, to: &str) -> String {
+    assert!(SCENE.contains(from), "{from}");
+    std::fs::write(dir.join("bad.toml"), SCENE.replacen(from, to, 1)).unwrap();
+    refused(dir, &["render", "--scene", "bad.toml", "-o", "bad.png"])
+}
+
+fn line_of(needle: &str) -> usize {
+    SCENE[..SCENE.find(needle).unwrap()].matches('\n').count() + 1
+}
+
+#[test]
+fn bad_scene_files_name_file_line_and_field() {
+    let dir = scene_dir();
+    let d = dir.path();
+    let e = broken(
+        d,
+        "radius = 0.5\nmaterial = \"blinn\"",
+        "radius = -0.5\nmaterial = \"blinn\"",
+    );
+    assert!(
+        e.contains("bad.toml:") && e.contains("spheres[2].radius") && e.contains("positive"),
+        "{e}"
+    );
+    assert!(
+        e.contains(&format!(
+            ":{}:",
+            line_of("radius = 0.5\nmaterial = \"blinn\"")
+        )),
+        "{e}"
+    );
+    let e = broken(d, "material = \"blinn\"", "material = \"velvet\"");
+    assert!(
+        e.contains("spheres[2].material") && e.contains("unknown material `velvet`"),
+        "{e}"
+    );
+    let e = broken(d, "kind = \"mirror\"", "kind = \"velvet\"");
+    assert!(
+        e.contains("bad.toml:") && e.contains("materials.mirror") && e.contains("velvet"),
+        "{e}"
+    );
+    let e = broken(d, "vfov = 50.0", "vfov = nan");
+    assert!(
+        e.contains("camera.vfov") && e.contains(&format!(":{}:", line_of("vfov"))),
+        "{e}"
+    );
+    let e = broken(d, "center = [0.0, 0.0, 0.0]", "center = [0.0, nan, 0.0]");
+    assert!(
+        e.contains("spheres[2].center") && e.contains("finite"),
+        "{e}"
+    );
+    let e = broken(
+        d,
+        "radius = 0.4\nmaterial = \"metal\"",
+        "material = \"metal\"",
+    );
+    assert!(
+        e.contains("bad.toml:") && e.contains("spheres[4]") && e.contains("radius"),
+        "missing field: {e}"
+    );
+    let e = broken(d, "ks = 0.5\nexponent = 40.0", "ks = 0.6\nexponent = 40.0");
+    assert!(
+        e.contains("materials.nblinn") && e.contains("kd + ks"),
+        "{e}"
+    );
+    let e = broken(d, "path = \"picture.png\"", "path = \"missing.png\"");
+    assert!(
+        e.contains("textures.picture.path") && e.contains("missing.png"),
+        "{e}"
+    );
+    let e = broken(d, "emit = [10.0, 10.0, 10.0]", "emit = [10.0, -1.0, 10.0]");
+    assert!(e.contains("materials.lamp.emit"), "{e}");
+    let e = broken(d, "width = 48", "width = 0");
+    assert!(e.contains("render.width"), "{e}");
+    let e = broken(d, "[camera]", "[camera]\nzoom = 2.0");
+    assert!(
+        e.contains("camera") && e.contains("zoom"),
+        "unknown field: {e}"
+    );
+}
+
+#[test]
+fn bad_flags_are_refused_before_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, want) in [
+        (vec!["render", "--width", "0"], "--width"),
+        (vec!["render", "--spp", "0"], "--spp"),
+        (vec!["render", "--spp", "99999999"], "--spp"),
+        (vec!["render", "--max-depth", "0"], "--max-depth"),
+        (vec!["render", "--threads", "0"], "--threads"),
+        (vec!["render", "--aspect", "-2"], "--aspect"),
+        (vec!["render", "--aspect", "nan"], "--aspect"),
+        (vec!["render", "--height", "9", "--aspect", "2"], "--aspect"),
+        (vec!["render", "--sampler", "sobol"], "--sampler"),
+        (
+            vec!["render", "--scene", "nonesuch"],
+            "unknown scene `nonesuch`",
+        ),
+        (vec!["render", "--scene", "missing.toml"], "missing.toml"),
+        (vec!["render", "-o", "image.jpg"], ".png or .exr"),
+        (
+            vec!["render", "-o", "no/such/dir/x.png"],
+            "cannot write output",
+        ),
+        (
+            vec!["render", "--width", "16384", "--aspect", "0.01"],
+            "height",
+        ),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+    // A directory as output.
+    std::fs::create_dir(d.join("out.png")).unwrap();
+    let e = refused(d, &["render", "-o", "out.png"]);
+    assert!(e.contains("directory"), "{e}");
+}
