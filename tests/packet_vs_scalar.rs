@@ -156,8 +156,7 @@ fn inactive_lanes_are_untouched() {
     let set = SphereSet::build(&spheres, &mut storage).unwrap();
     // Eight rays that all hit; only the first three lanes are active.
     let rays = [Ray::new(Vec3::ZERO, -Vec3::Z); 8];
-    let mut packet = RayPacket8::from_rays(&rays);
-    packet.active = RayPacket8::from_rays(&rays[..3]).active;
+    let packet = RayPacket8::from_rays(&rays).with_active_bits(0b111);
     assert_eq!(packet.active_bits(), 0b111);
     let sentinel_t = wide::f32x8::new([9.0, 9.0, 9.0, 7.0, 6.0, 5.0, 4.0, 3.0]);
     let sentinel_i = wide::i32x8::new([-1, -1, -1, 40, 41, 42, 43, 44]);

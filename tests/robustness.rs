@@ -186,9 +186,16 @@ fn spawned_rays_do_not_self_intersect() {
     let (mut course_self_hits, mut trials, mut inward_checked) = (0, 0, 0);
     for s in &spheres {
         for _ in 0..100_000 {
-            let n = sample_uniform_sphere(u()).normalize();
-            // A hit point as a renderer computes it: rounded, near the surface.
-            let p = s.center + n * s.radius;
+            // A hit point as a renderer computes it, ray.at(t) from a camera
+            // a few radii away: rounded, off the surface by its error.
+            let from = s.center + sample_uniform_sphere(u()).normalize() * (3.0 * s.radius);
+            let aim = s.center + sample_uniform_sphere(u()).normalize() * (0.5 * s.radius);
+            let camera = Ray::new(from, (aim - from).normalize());
+            let Some(t) = intersect_sphere(&camera, s) else {
+                continue;
+            };
+            let p = camera.at(t);
+            let n = (p - s.center).normalize();
             let v = u();
             let local = sample_uniform_hemisphere(Vec2::new(v.x * 0.01, v.y));
             let out = Onb::from_normal(n).to_world(local).normalize();
@@ -224,4 +231,42 @@ fn spawned_rays_do_not_self_intersect() {
     println!("course t_min = 1e-6: {course_self_hits} self-hits of {trials} ({frac:.3})");
     assert!(frac > 0.1, "D9 should show: {frac}");
     assert!(inward_checked > trials / 2, "{inward_checked} of {trials}");
+}
+
+/// Near-silhouette rays from origins at |f| / r between 1.05 and 10 (and a
+/// far 200): Strata's choice of discriminant must never make more wrong
+/// hit/miss decisions than the better of the two forms by more than noise.
+#[test]
+fn discriminant_choice_sweeps_distance_over_radius() {
+    let mut rng = Pcg32::new(77, STREAM);
+    let mut f = || next_f32(&mut rng);
+    for radius in [1.0f32, 100.0] {
+        for k in [1.05f32, 1.2, 1.35, 1.5, 1.9, 3.0, 10.0, 200.0] {
+            let s = Sphere::new(Vec3::new(0.123_457, -0.345_679, 0.567_891) * radius, radius);
+            let (mut naive, mut rtg, mut strata) = (0, 0, 0);
+            for _ in 0..20_000 {
+                let dir_o = sample_uniform_sphere(Vec2::new(f(), f())).normalize();
+                let o = s.center + dir_o * (k * radius);
+                // Aim at the silhouette: the tangent cone's angle, jittered
+                // by a relative 1e-4.
+                let to_c = (s.center - o).normalize();
+                let sin_t = (1.0 / k) * (1.0 + (f() - 0.5) * 2e-4);
+                let side = Onb::from_normal(to_c).to_world(Vec3::new(1.0, 0.0, 0.0));
+                let phi = f() * std::f32::consts::TAU;
+                let axis = side * phi.cos() + to_c.cross(side) * phi.sin();
+                let d = (to_c * (1.0 - sin_t * sin_t).max(0.0).sqrt() + axis * sin_t).normalize();
+                let ray = Ray::new(o, d);
+                let want = reference(&ray, &s).is_some();
+                naive += (intersect_sphere_naive(&ray, &s).is_some() != want) as usize;
+                rtg += (rtg_only(&ray, &s).is_some() != want) as usize;
+                strata += (intersect_sphere(&ray, &s).is_some() != want) as usize;
+            }
+            let best = naive.min(rtg);
+            println!("r {radius} |f|/r {k}: wrong naive {naive}, chapter {rtg}, strata {strata}");
+            assert!(
+                strata <= best + best / 5 + 10,
+                "r {radius} |f|/r {k}: {strata} vs best {best}"
+            );
+        }
+    }
 }

@@ -8,6 +8,10 @@
 //!    invert) and both ONBs produce on a fixed grid. It pins the `libm`
 //!    paths, so a build for another SIMD level, or another `libm`, that
 //!    rounds differently fails here.
+//! 4. The tracing lock: a hash of the closest hits (sphere and `t` bits)
+//!    of seeded random rays against the course and cover layouts, through
+//!    the scalar, 1×8 and packet paths. CI runs it on an SSE2 and a native
+//!    (AVX2/AVX-512) build: both must produce these very values.
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation: the properties (uniformity, independence, stratification,
@@ -231,4 +235,32 @@ fn mapping_lock() {
         "mapping outputs changed:\n{}\n{CHANGED}",
         failures.join("\n")
     );
+}
+
+#[test]
+fn tracing_lock() {
+    use strata::trace::*;
+    use strata_runner::workload::{course_spheres, cover_spheres, random_rays, ray_box};
+    let mut digests = vec![];
+    for (spheres, cover) in [(course_spheres(), false), (cover_spheres(), true)] {
+        let mut storage = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
+        let set = SphereSet::build(&spheres, &mut storage).unwrap();
+        let (lo, hi) = ray_box(cover);
+        let rays = random_rays(4096, lo, hi, 3);
+        let mut words = vec![];
+        for chunk in rays.chunks(8) {
+            let mut packet = HitPacket8::NONE;
+            closest_hit_x8(&RayPacket8::from_rays(chunk), &set, &mut packet);
+            for (lane, ray) in chunk.iter().enumerate() {
+                let a = closest_hit(ray, &spheres);
+                assert_eq!(a, closest_hit_1x8(ray, &set));
+                assert_eq!(a, packet.hit(lane));
+                let (s, t) = a.map_or((u32::MAX, 0), |h| (h.sphere, h.t.to_bits()));
+                words.extend([s, t, any_hit(ray, &spheres) as u32]);
+            }
+        }
+        digests.push(fnv(words));
+    }
+    let lock = [0x25f6d800a7fff84a_u64, 0xa227d07a7e715550];
+    assert_eq!(digests, lock, "hits changed: {digests:#018x?}\n{CHANGED}");
 }

@@ -254,8 +254,9 @@ pub struct RayPacket8 {
     pub t_min: f32x8,
     /// Open interval end per lane.
     pub t_max: f32x8,
-    /// All ones in lanes that carry a ray, zeros elsewhere.
-    pub active: f32x8,
+    /// All ones in lanes that carry a ray, zeros elsewhere. Private: a
+    /// mask of other bit patterns would select differently per SIMD level.
+    active: f32x8,
 }
 
 impl RayPacket8 {
@@ -308,6 +309,24 @@ impl RayPacket8 {
     #[must_use]
     pub fn active_bits(&self) -> u32 {
         lanes_bitmask(self.active)
+    }
+
+    /// The same rays with exactly the lanes of `bits` active (bit `k` for
+    /// lane `k`), e.g. to retire lanes whose paths have ended.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::{Ray, RayPacket8};
+    /// let p = RayPacket8::from_rays(&[Ray::new(Vec3::ZERO, Vec3::X); 8]);
+    /// assert_eq!(p.with_active_bits(0b1010_0001).active_bits(), 0b1010_0001);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn with_active_bits(self, bits: u8) -> Self {
+        Self {
+            active: mask_from_bools(core::array::from_fn(|k| bits >> k & 1 == 1)),
+            ..self
+        }
     }
 
     /// The points `o + t d` of every lane, as x, y, z vectors.
@@ -365,9 +384,9 @@ impl HitPacket8 {
 /// lane the same bits.
 ///
 /// `hits` is read and updated: a lane takes a sphere only if it is strictly
-/// closer than the lane's current `hits.t` (so a fresh [`HitPacket8::NONE`]
-/// gives the closest hit, and tracing several sets in turn gives the
-/// closest over all, ties to the earlier). Inactive lanes are not written.
+/// closer than the lane's current `hits.t`, so a fresh [`HitPacket8::NONE`]
+/// gives the closest hit (a NaN `t` passed in never updates). Sphere
+/// indices are those of `set`. Inactive lanes are not written.
 ///
 /// ```
 /// use glam::Vec3;
@@ -384,6 +403,9 @@ impl HitPacket8 {
 #[inline]
 pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPacket8) {
     let p = packet;
+    if lanes_bitmask(p.active) == 0 {
+        return;
+    }
     let mut best_t = hits.t;
     let mut best_i = hits.sphere;
     let mut index = 0i32;
