@@ -22,7 +22,7 @@ mod texture;
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum, to_fixed};
 pub use integrator::{
-    RenderError, RenderSettings, Tile, pixel_sample, power_heuristic, render_tile,
+    RenderError, RenderSettings, Tile, TileStats, pixel_sample, power_heuristic, render_tile,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, collect_lights};

@@ -202,12 +202,14 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         max_depth,
         output.display()
     );
+    let st = rendered.stats;
     println!(
-        "{:.3} s on {} threads ({}): {:.2} M samples/s{}",
+        "{:.3} s on {} threads ({}): {:.2} M samples/s, {:.2} M rays/s{}",
         secs,
         args.threads,
         strata::trace::simd_level().name(),
-        rendered.paths as f64 / secs.max(1e-9) / 1e6,
+        st.paths as f64 / secs.max(1e-9) / 1e6,
+        (st.rays + st.shadow_rays) as f64 / secs.max(1e-9) / 1e6,
         if dropped > 0 {
             format!(", {dropped} NaN/inf samples dropped")
         } else {

@@ -9,7 +9,9 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use rayon::prelude::*;
-use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, collect_lights, render_tile};
+use strata::render::{
+    Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, collect_lights, render_tile,
+};
 use strata::trace::{SphereChunk8, SphereSet, chunks_for};
 use strata::{Independent, Sampler, Stratified, UniformGrid};
 
@@ -71,8 +73,8 @@ pub struct Rendered {
     pub pixels: Vec<PixelSum>,
     /// Wall-clock time of the tracing.
     pub wall: Duration,
-    /// Camera paths traced.
-    pub paths: u64,
+    /// What was traced: camera paths, closest-hit rays, shadow rays.
+    pub stats: TileStats,
 }
 
 /// The tiles of a `width × height` image, row-major.
@@ -149,18 +151,19 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     })?;
     let wall = start.elapsed();
     let mut pixels = vec![PixelSum::ZERO; job.width as usize * job.height as usize];
-    for (tile, film) in films {
+    let mut stats = TileStats::default();
+    for (tile, film, tile_stats) in films {
+        stats.add(&tile_stats);
         for row in 0..tile.height {
             let src = &film[(row * tile.width) as usize..][..tile.width as usize];
             let at = ((tile.y0 + row) * job.width + tile.x0) as usize;
             pixels[at..at + tile.width as usize].copy_from_slice(src);
         }
     }
-    let paths = job.width as u64 * job.height as u64 * job.samples.len() as u64;
     Ok(Rendered {
         pixels,
         wall,
-        paths,
+        stats,
     })
 }
 
@@ -171,24 +174,17 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
     settings: &RenderSettings,
     sampler: Option<S>,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<(Tile, Vec<PixelSum>)>> {
+) -> Result<Vec<(Tile, Vec<PixelSum>, TileStats)>> {
     let sampler = sampler.ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?;
     tiles(job.width, job.height, job.tile)
         .into_par_iter()
         .map(|tile| {
             let mut film = vec![PixelSum::ZERO; tile.area()];
-            render_tile(
-                scene,
-                camera,
-                &sampler,
-                settings,
-                tile,
-                job.samples.clone(),
-                &mut film,
-            )
-            .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
+            let samples = job.samples.clone();
+            let stats = render_tile(scene, camera, &sampler, settings, tile, samples, &mut film)
+                .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
             progress(tile.area() as u64);
-            Ok((tile, film))
+            Ok((tile, film, stats))
         })
         .collect()
 }

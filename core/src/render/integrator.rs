@@ -84,6 +84,27 @@ impl Tile {
     }
 }
 
+/// What rendering a tile traced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TileStats {
+    /// Camera paths (pixel samples).
+    pub paths: u64,
+    /// Closest-hit rays: camera rays and bounces.
+    pub rays: u64,
+    /// Any-hit shadow rays of direct lighting.
+    pub shadow_rays: u64,
+}
+
+impl TileStats {
+    /// Adds another tile's counts.
+    #[inline]
+    pub fn add(&mut self, other: &TileStats) {
+        self.paths += other.paths;
+        self.rays += other.rays;
+        self.shadow_rays += other.shadow_rays;
+    }
+}
+
 /// Why a tile could not be rendered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RenderError {
@@ -152,6 +173,7 @@ fn direct_light(
     surf: &SurfaceHit,
     u_choice: f32,
     u_dir: glam::Vec2,
+    stats: &mut TileStats,
 ) -> Vec3 {
     let lights = scene.lights();
     let k = ((u_choice * lights.len() as f32) as usize).min(lights.len() - 1);
@@ -174,6 +196,7 @@ fn direct_light(
     let Some(t_light) = intersect_sphere(&shadow, &light) else {
         return Vec3::ZERO; // grazed the rim by rounding
     };
+    stats.shadow_rays += 1;
     if any_hit_1x8(&shadow.with_range(0.0, t_light), scene.set()) {
         return Vec3::ZERO;
     }
@@ -191,6 +214,7 @@ fn trace_path<S: Sampler>(
     settings: &RenderSettings,
     mut ray: Ray,
     first: Option<Hit>,
+    stats: &mut TileStats,
 ) -> Vec3 {
     let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
@@ -199,7 +223,9 @@ fn trace_path<S: Sampler>(
     let mut last_smooth: Option<(Vec3, f32)> = None;
     let nee = settings.direct_lighting && !scene.lights().is_empty();
     let mut hit = first;
+    stats.paths += 1;
     for segment in 1..=settings.max_depth {
+        stats.rays += 1;
         if segment > 1 {
             hit = closest_hit_1x8(&ray, scene.set());
         }
@@ -227,7 +253,7 @@ fn trace_path<S: Sampler>(
         let u_choice = sampler.next_1d();
         let u_light = sampler.next_2d();
         if nee && material.is_smooth() {
-            radiance += throughput * direct_light(scene, &ray, h, &surf, u_choice, u_light);
+            radiance += throughput * direct_light(scene, &ray, h, &surf, u_choice, u_light, stats);
         }
         let Some(s) = material.sample(ray.dir, &surf, u_scatter, u_lobe) else {
             break;
@@ -292,7 +318,14 @@ pub fn pixel_sample<S: Sampler>(
 ) -> Vec3 {
     let ray = camera_ray(camera, sampler, pixel, index);
     let first = closest_hit_1x8(&ray, scene.set());
-    trace_path(scene, sampler, settings, ray, first)
+    trace_path(
+        scene,
+        sampler,
+        settings,
+        ray,
+        first,
+        &mut TileStats::default(),
+    )
 }
 
 /// Renders samples `samples` of every pixel of `tile` and adds them to
@@ -303,7 +336,7 @@ pub fn pixel_sample<S: Sampler>(
 /// [`PixelSum::add_sample`].
 ///
 /// `sampler` is the prototype: its kind, spp and seed are used, its
-/// current position is not.
+/// current position is not. Returns what was traced.
 #[inline]
 pub fn render_tile<S: Sampler + Clone>(
     scene: &Scene<'_>,
@@ -313,7 +346,7 @@ pub fn render_tile<S: Sampler + Clone>(
     tile: Tile,
     samples: Range<u32>,
     film: &mut [PixelSum],
-) -> Result<(), RenderError> {
+) -> Result<TileStats, RenderError> {
     if settings.max_depth == 0 {
         return Err(RenderError::MaxDepth);
     }
@@ -334,6 +367,7 @@ pub fn render_tile<S: Sampler + Clone>(
             provided: film.len(),
         });
     }
+    let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
     for row in 0..tile.height {
@@ -348,12 +382,19 @@ pub fn render_tile<S: Sampler + Clone>(
                 let mut hits = HitPacket8::NONE;
                 closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), scene.set(), &mut hits);
                 for l in 0..n {
-                    let v = trace_path(scene, &mut lanes[l], settings, rays[l], hits.hit(l));
+                    let v = trace_path(
+                        scene,
+                        &mut lanes[l],
+                        settings,
+                        rays[l],
+                        hits.hit(l),
+                        &mut stats,
+                    );
                     film[(row * tile.width + col) as usize + l].add_sample(v);
                 }
             }
             col += n as u32;
         }
     }
-    Ok(())
+    Ok(stats)
 }
