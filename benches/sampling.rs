@@ -8,11 +8,12 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use glam::{UVec2, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use rand_distr::{Distribution, UnitDisc, UnitSphere};
 use strata::mapping::{self, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
-use strata::sampler::{Independent, Sampler, Stratified, UniformGrid};
+use strata::sampler::{Independent, Stratified, UniformGrid};
+use strata_runner::workload::sampler_pattern;
 
 const N: usize = 4096;
 
@@ -155,34 +156,24 @@ fn sphere(c: &mut Criterion) {
     g.finish();
 }
 
-/// One pixel sample as a depth-2 path consumes it: start, pixel 2D, then
-/// 2D + 1D + 1D + 2D per bounce. Throughput counts pixel samples.
+/// One pixel sample as a depth-2 path consumes a sampler
+/// ([`sampler_pattern`]). Throughput counts pixel samples.
 fn samplers(c: &mut Criterion) {
-    const W: u32 = 16;
     const SPP: u32 = 16;
-    fn run<S: Sampler>(s: &mut S) -> f32 {
-        let mut acc = 0.0;
-        for y in 0..W {
-            for x in 0..W {
-                for i in 0..SPP {
-                    s.start_pixel_sample(UVec2::new(x, y), i);
-                    acc += s.pixel_2d().x;
-                    for _ in 0..2 {
-                        acc += s.next_2d().y + s.next_1d() + s.next_1d() + s.next_2d().x;
-                    }
-                }
-            }
-        }
-        acc
-    }
     let mut g = c.benchmark_group("sampler");
-    g.throughput(Throughput::Elements((W * W * SPP) as u64));
+    g.throughput(Throughput::Elements((16 * 16 * SPP) as u64));
     let mut ind = Independent::new(SPP, 1).unwrap();
-    g.bench_function("independent", |b| b.iter(|| run(black_box(&mut ind))));
+    g.bench_function("independent", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut ind), SPP))
+    });
     let mut grid = UniformGrid::new(SPP, 1).unwrap();
-    g.bench_function("grid", |b| b.iter(|| run(black_box(&mut grid))));
+    g.bench_function("grid", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut grid), SPP))
+    });
     let mut st = Stratified::new(SPP, 1).unwrap();
-    g.bench_function("stratified", |b| b.iter(|| run(black_box(&mut st))));
+    g.bench_function("stratified", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut st), SPP))
+    });
     g.finish();
 }
 

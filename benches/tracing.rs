@@ -10,77 +10,11 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use glam::Vec3;
 use strata::trace::*;
-use strata_runner::workload::{
-    COURSE_VIEW, COVER_VIEW, View, camera_rays, course_spheres, cover_spheres, random_rays, ray_box,
-};
-
-struct Workload {
-    name: &'static str,
-    spheres: Vec<Sphere>,
-    rays: Vec<Ray>,
-    /// A point light for the shadow rays.
-    light: Vec3,
-}
-
-/// Camera rays (coherent) and random rays (incoherent) for both scenes.
-fn workloads() -> Vec<Workload> {
-    let light = |cover: bool| {
-        if cover {
-            Vec3::new(2.0, 8.0, 3.0)
-        } else {
-            Vec3::new(-1.0, 3.0, 1.0)
-        }
-    };
-    let camera = |name, spheres, view: View, (w, h), cover| Workload {
-        name,
-        spheres,
-        rays: camera_rays(view, w, h),
-        light: light(cover),
-    };
-    let random = |name, spheres, n, cover| {
-        let (lo, hi) = ray_box(cover);
-        Workload {
-            name,
-            spheres,
-            rays: random_rays(n, lo, hi, 11),
-            light: light(cover),
-        }
-    };
-    vec![
-        camera(
-            "course_camera",
-            course_spheres(),
-            COURSE_VIEW,
-            (320, 180),
-            false,
-        ),
-        random("course_random", course_spheres(), 65_536, false),
-        camera("cover_camera", cover_spheres(), COVER_VIEW, (160, 90), true),
-        random("cover_random", cover_spheres(), 16_384, true),
-    ]
-}
-
-/// For every ray that hits, a shadow ray from its hit point (spawned on the
-/// side it arrived from) to `light`, open at both ends.
-fn shadow_rays(spheres: &[Sphere], rays: &[Ray], light: Vec3) -> Vec<Ray> {
-    rays.iter()
-        .filter_map(|r| {
-            let h = closest_hit(r, spheres)?;
-            let s = spheres[h.sphere as usize];
-            let p = r.at(h.t);
-            let outside = r.dir.dot(p - s.center) < 0.0;
-            let o = s.spawn_origin(p, outside);
-            let to = light - o;
-            let d = to.length();
-            Some(Ray::new(o, to / d).with_range(0.0, d))
-        })
-        .collect()
-}
+use strata_runner::workload::{shadow_rays, trace_workloads};
 
 fn intersect(c: &mut Criterion) {
-    for w in workloads() {
+    for w in trace_workloads() {
         let mut storage = vec![SphereChunk8::EMPTY; chunks_for(w.spheres.len())];
         let set = SphereSet::build(&w.spheres, &mut storage).unwrap();
         let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();

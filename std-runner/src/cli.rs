@@ -38,6 +38,60 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene to a PNG or EXR image.
     Render(RenderArgs),
+    /// Measure sampling, intersection and rendering throughput (see the
+    /// suite in `std-runner/src/bench.rs`); prints a table.
+    Bench(BenchArgs),
+}
+
+/// `strata bench` flags.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Also write the report as JSON to this file.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Timed repetitions of every figure (after one warm-up).
+    #[arg(long, default_value_t = 5, value_parser = value_parser!(u16).range(1..=100))]
+    pub repetitions: u16,
+    /// Shortest duration of one timing, in milliseconds.
+    #[arg(long, default_value_t = 100, value_parser = value_parser!(u64).range(1..=60_000))]
+    pub min_time_ms: u64,
+}
+
+/// Runs `strata bench`.
+pub fn bench(args: &BenchArgs) -> Result<()> {
+    if let Some(path) = &args.json {
+        if path.extension().is_none_or(|e| e != "json") {
+            bail!("--json `{}` must end in .json", path.display());
+        }
+        std::fs::write(path, b"").with_context(|| format!("cannot write `{}`", path.display()))?;
+        std::fs::remove_file(path).ok();
+    }
+    let options = crate::bench::Options {
+        repetitions: args.repetitions as usize,
+        min_time: std::time::Duration::from_millis(args.min_time_ms),
+    };
+    let bar = if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new(crate::bench::COMPARISONS);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {pos}/{len} {wide_msg}")
+                .expect("a valid template"),
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let report = crate::bench::run_suite(options, &|name| {
+        bar.set_message(name.to_string());
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    print!("{}", crate::bench::table(&report));
+    if let Some(path) = &args.json {
+        let text = serde_json::to_string_pretty(&report)?;
+        std::fs::write(path, text).with_context(|| format!("writing `{}`", path.display()))?;
+    }
+    flush_stdout();
+    Ok(())
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {
@@ -260,10 +314,11 @@ pub fn main_with(cli: Cli) -> Result<()> {
     }
     match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Bench(args)) => bench(&args),
         // No subcommand: `strata render` with every default.
         None => match Cli::try_parse_from(["strata", "render"])?.command {
             Some(Command::Render(args)) => render(&args),
-            None => unreachable!("`render` parses as the render subcommand"),
+            _ => unreachable!("`render` parses as the render subcommand"),
         },
     }
 }

@@ -2,6 +2,7 @@
 //! scenes and TOML scene files, the parallel renderer, image files, and
 //! the benchmark workloads.
 
+pub mod bench;
 pub mod cli;
 pub mod image_io;
 pub mod render;

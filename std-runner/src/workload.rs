@@ -150,3 +150,96 @@ mod tests {
         assert!(mean.length() < 0.05, "{mean}");
     }
 }
+
+/// A tracing workload: spheres, rays to trace, and a point light for
+/// shadow rays.
+#[derive(Clone, Debug)]
+pub struct TraceWorkload {
+    /// Name, `course_camera` etc.
+    pub name: &'static str,
+    /// The spheres.
+    pub spheres: Vec<Sphere>,
+    /// Closest-hit rays.
+    pub rays: Vec<Ray>,
+    /// A point light the shadow rays aim at.
+    pub light: Vec3,
+}
+
+/// The four tracing workloads every benchmark uses: camera rays (coherent,
+/// course 320 × 180, cover 160 × 90) and incoherent random rays (course
+/// 65 536, cover 16 384, seed 11) on the course and cover layouts.
+#[must_use]
+pub fn trace_workloads() -> Vec<TraceWorkload> {
+    let light = |cover: bool| {
+        if cover {
+            Vec3::new(2.0, 8.0, 3.0)
+        } else {
+            Vec3::new(-1.0, 3.0, 1.0)
+        }
+    };
+    let camera = |name, spheres, view: View, (w, h), cover| TraceWorkload {
+        name,
+        spheres,
+        rays: camera_rays(view, w, h),
+        light: light(cover),
+    };
+    let random = |name, spheres, n, cover| {
+        let (lo, hi) = ray_box(cover);
+        TraceWorkload {
+            name,
+            spheres,
+            rays: random_rays(n, lo, hi, 11),
+            light: light(cover),
+        }
+    };
+    vec![
+        camera(
+            "course_camera",
+            course_spheres(),
+            COURSE_VIEW,
+            (320, 180),
+            false,
+        ),
+        random("course_random", course_spheres(), 65_536, false),
+        camera("cover_camera", cover_spheres(), COVER_VIEW, (160, 90), true),
+        random("cover_random", cover_spheres(), 16_384, true),
+    ]
+}
+
+/// For every ray that hits, a shadow ray from its hit point (spawned on the
+/// side it arrived from) to `light`, open at both ends: what direct
+/// lighting traces.
+#[must_use]
+pub fn shadow_rays(spheres: &[Sphere], rays: &[Ray], light: Vec3) -> Vec<Ray> {
+    rays.iter()
+        .filter_map(|r| {
+            let h = strata::trace::closest_hit(r, spheres)?;
+            let s = spheres[h.sphere as usize];
+            let p = r.at(h.t);
+            let outside = r.dir.dot(p - s.center) < 0.0;
+            let o = s.spawn_origin(p, outside);
+            let to = light - o;
+            let d = to.length();
+            Some(Ray::new(o, to / d).with_range(0.0, d))
+        })
+        .collect()
+}
+
+/// One pixel sample as a depth-2 path consumes a sampler: start, pixel 2D,
+/// then 2D + 1D + 1D + 2D per bounce, over a `16 × 16` pixel block at
+/// `spp` samples. Returns a checksum so the work cannot be optimised away.
+pub fn sampler_pattern<S: strata::Sampler>(s: &mut S, spp: u32) -> f32 {
+    let mut acc = 0.0;
+    for y in 0..16 {
+        for x in 0..16 {
+            for i in 0..spp {
+                s.start_pixel_sample(glam::UVec2::new(x, y), i);
+                acc += s.pixel_2d().x;
+                for _ in 0..2 {
+                    acc += s.next_2d().y + s.next_1d() + s.next_1d() + s.next_2d().x;
+                }
+            }
+        }
+    }
+    acc
+}

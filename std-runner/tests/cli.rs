@@ -453,3 +453,41 @@ fn bad_flags_are_refused_before_work() {
     let e = refused(d, &["render", "-o", "out.png"]);
     assert!(e.contains("directory"), "{e}");
 }
+
+#[test]
+fn bench_writes_a_table_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(
+        dir.path(),
+        &[
+            "bench",
+            "--repetitions",
+            "1",
+            "--min-time-ms",
+            "1",
+            "--json",
+            "b.json",
+        ],
+    );
+    assert!(
+        out.contains("closest/cover_camera packet / scalar"),
+        "{out}"
+    );
+    assert!(out.contains("render/week09 2 threads / 1 thread"), "{out}");
+    let json = String::from_utf8(bytes(&dir.path().join("b.json"))).unwrap();
+    for key in [
+        "\"simd\"",
+        "\"cpu\"",
+        "\"figures\"",
+        "\"ratios\"",
+        "\"median\"",
+    ] {
+        assert!(json.contains(key), "{key} missing");
+    }
+    let e = refused(dir.path(), &["bench", "--json", "b.txt"]);
+    assert!(e.contains(".json"), "{e}");
+    let e = refused(dir.path(), &["bench", "--json", "no/such/dir/b.json"]);
+    assert!(e.contains("cannot write"), "{e}");
+    let e = refused(dir.path(), &["bench", "--repetitions", "0"]);
+    assert!(e.contains("--repetitions"), "{e}");
+}

@@ -1,0 +1,568 @@
+//! `strata bench`: a fixed, documented throughput suite.
+//!
+//! - **sampling**: samples/s of every mapping (on precomputed `u`), of the
+//!   disk and sphere by analytic maps vs the course's rejection loops (each
+//!   drawing from a PCG32 inside the timed loop), and pixel samples/s of
+//!   each sampler along a depth-2 path's dimensions;
+//! - **intersection**: rays/s and ray–sphere tests/s, scalar vs 1×8 vs
+//!   packet, on the course (4 spheres) and cover (485) layouts, coherent
+//!   camera rays and incoherent random rays, closest hit and shadow rays;
+//! - **rendering**: camera paths/s and rays/s of `week09` (320 × 180, 8
+//!   spp, depth 5) and `cover` (320 × 180, 2 spp, depth 50) on 1 and 2
+//!   threads.
+//!
+//! Method: each comparison's contenders run interleaved, one after the
+//! other, in every repetition: one warm-up repetition, then `repetitions`
+//! timed ones. Each timing repeats its work until it lasts at least
+//! `min_time`. A figure is the median over repetitions with its min–max
+//! spread; a ratio (packet/scalar, 2 threads/1 thread) is the median of
+//! the per-repetition ratios, so both sides of a ratio share a repetition's
+//! machine state.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use anyhow::Result;
+use glam::{Vec2, Vec3};
+use serde::Serialize;
+use strata::mapping::{self, Cone, rejection};
+use strata::rng::{Pcg32, STREAM, next_f32};
+use strata::trace::*;
+use strata::{Independent, Stratified, UniformGrid};
+
+use crate::render::{Job, SamplerKind, run};
+use crate::scenes::built_in;
+use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
+
+/// How much to measure.
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    /// Timed repetitions after the warm-up.
+    pub repetitions: usize,
+    /// Shortest duration of one timing.
+    pub min_time: Duration,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            repetitions: 5,
+            min_time: Duration::from_millis(100),
+        }
+    }
+}
+
+/// A median with its spread.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Stat {
+    /// Median over repetitions.
+    pub median: f64,
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+}
+
+impl Stat {
+    fn of(values: &[f64]) -> Stat {
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        Stat {
+            median,
+            min: v[0],
+            max: v[n - 1],
+        }
+    }
+}
+
+/// One measured throughput.
+#[derive(Clone, Debug, Serialize)]
+pub struct Figure {
+    /// `sampling`, `intersection` or `rendering`.
+    pub group: String,
+    /// The comparison it belongs to, e.g. `closest/cover_camera`.
+    pub comparison: String,
+    /// The contender, e.g. `packet`.
+    pub name: String,
+    /// What is counted per second.
+    pub unit: String,
+    /// Millions of units per second.
+    pub mega_per_s: Stat,
+    /// Further derived rates, e.g. ray–sphere tests or rays per second.
+    pub extra: Vec<(String, f64)>,
+}
+
+/// One ratio within a comparison.
+#[derive(Clone, Debug, Serialize)]
+pub struct Ratio {
+    /// e.g. `closest/cover_camera packet / scalar`.
+    pub name: String,
+    /// Per-repetition ratios summarised.
+    pub ratio: Stat,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// `strata` version.
+    pub version: String,
+    /// SIMD level of this build.
+    pub simd: String,
+    /// CPU model, from `/proc/cpuinfo`.
+    pub cpu: String,
+    /// Logical CPUs available.
+    pub cpus: usize,
+    /// Timed repetitions per figure.
+    pub repetitions: usize,
+    /// Every figure.
+    pub figures: Vec<Figure>,
+    /// Every ratio.
+    pub ratios: Vec<Ratio>,
+}
+
+/// A contender: a name, units of work per call, and the work (returning a
+/// checksum so it cannot be optimised away).
+struct Contender<'a> {
+    name: String,
+    units: f64,
+    work: Box<dyn FnMut() -> u64 + 'a>,
+}
+
+fn contender<'a>(name: &str, units: f64, work: impl FnMut() -> u64 + 'a) -> Contender<'a> {
+    Contender {
+        name: name.into(),
+        units,
+        work: Box::new(work),
+    }
+}
+
+/// Seconds per call of `work`, repeated until `min_time` has passed.
+fn time(work: &mut dyn FnMut() -> u64, min_time: Duration) -> f64 {
+    let start = Instant::now();
+    let mut calls = 0u64;
+    while start.elapsed() < min_time || calls == 0 {
+        black_box(work());
+        calls += 1;
+    }
+    start.elapsed().as_secs_f64() / calls as f64
+}
+
+struct Suite<'p> {
+    options: Options,
+    figures: Vec<Figure>,
+    ratios: Vec<Ratio>,
+    progress: &'p dyn Fn(&str),
+}
+
+impl Suite<'_> {
+    /// Runs the contenders interleaved and records their rates and the
+    /// ratio of each to the first (the baseline), when `ratios` is set.
+    fn compare(
+        &mut self,
+        group: &str,
+        comparison: &str,
+        unit: &str,
+        mut cs: Vec<Contender<'_>>,
+        ratios: bool,
+    ) {
+        (self.progress)(comparison);
+        let reps = self.options.repetitions;
+        let mut rates = vec![Vec::with_capacity(reps); cs.len()];
+        for rep in 0..=reps {
+            for (k, c) in cs.iter_mut().enumerate() {
+                let secs = time(&mut c.work, self.options.min_time);
+                if rep > 0 {
+                    rates[k].push(c.units / secs / 1e6);
+                }
+            }
+        }
+        for (c, r) in cs.iter().zip(&rates) {
+            self.figures.push(Figure {
+                group: group.into(),
+                comparison: comparison.into(),
+                name: c.name.clone(),
+                unit: unit.into(),
+                mega_per_s: Stat::of(r),
+                extra: vec![],
+            });
+        }
+        if ratios {
+            for k in 1..cs.len() {
+                let per_rep: Vec<f64> =
+                    rates[k].iter().zip(&rates[0]).map(|(a, b)| a / b).collect();
+                self.ratios.push(Ratio {
+                    name: format!("{comparison} {} / {}", cs[k].name, cs[0].name),
+                    ratio: Stat::of(&per_rep),
+                });
+            }
+        }
+    }
+}
+
+fn uniforms(n: usize) -> Vec<Vec2> {
+    let mut rng = Pcg32::new(7, STREAM);
+    (0..n)
+        .map(|_| Vec2::new(next_f32(&mut rng), next_f32(&mut rng)))
+        .collect()
+}
+
+fn checksum(v: Vec3) -> u64 {
+    (v.x + v.y + v.z).to_bits() as u64
+}
+
+fn sampling(s: &mut Suite<'_>) {
+    const N: usize = 1 << 16;
+    let us = uniforms(N);
+    let cone = Cone::from_cos(0.8);
+    let us = &us;
+    let map3 = |f: fn(Vec2) -> Vec3| move || checksum(us.iter().fold(Vec3::ZERO, |a, &u| a + f(u)));
+    let mut cs = vec![
+        contender(
+            "uniform_sphere",
+            N as f64,
+            map3(mapping::sample_uniform_sphere),
+        ),
+        contender(
+            "uniform_hemisphere",
+            N as f64,
+            map3(mapping::sample_uniform_hemisphere),
+        ),
+        contender(
+            "cosine_hemisphere",
+            N as f64,
+            map3(mapping::sample_cosine_hemisphere),
+        ),
+    ];
+    cs.push(contender("uniform_cone", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_uniform_cone(u, cone)
+        }))
+    }));
+    cs.push(contender("concentric_disk", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_concentric_disk(u).extend(0.0)
+        }))
+    }));
+    cs.push(contender("polar_disk", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_polar_disk(u).extend(0.0)
+        }))
+    }));
+    s.compare("sampling", "mapping", "samples", cs, false);
+
+    let rng = std::cell::RefCell::new(Pcg32::new(1, STREAM));
+    let draw = |f: &dyn Fn(&mut Pcg32) -> Vec3| {
+        let mut r = rng.borrow_mut();
+        checksum((0..N).fold(Vec3::ZERO, |a, _| a + f(&mut r)))
+    };
+    let u2 = |r: &mut Pcg32| Vec2::new(next_f32(r), next_f32(r));
+    s.compare(
+        "sampling",
+        "disk",
+        "samples",
+        vec![
+            contender("concentric", N as f64, || {
+                draw(&|r| mapping::sample_concentric_disk(u2(r)).extend(0.0))
+            }),
+            contender("polar", N as f64, || {
+                draw(&|r| mapping::sample_polar_disk(u2(r)).extend(0.0))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_unit_disk(r).extend(0.0))
+            }),
+        ],
+        true,
+    );
+    s.compare(
+        "sampling",
+        "sphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_uniform_sphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_unit_sphere(r))
+            }),
+        ],
+        true,
+    );
+    s.compare(
+        "sampling",
+        "cosine_hemisphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_cosine_hemisphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_cosine_hemisphere(r))
+            }),
+        ],
+        true,
+    );
+
+    const SPP: u32 = 16;
+    let units = (16 * 16 * SPP) as f64;
+    let mut ind = Independent::new(SPP, 1).expect("spp > 0");
+    let mut grid = UniformGrid::new(SPP, 1).expect("spp > 0");
+    let mut st = Stratified::new(SPP, 1).expect("spp > 0");
+    s.compare(
+        "sampling",
+        "sampler",
+        "pixel samples",
+        vec![
+            contender("independent", units, || {
+                sampler_pattern(&mut ind, SPP).to_bits() as u64
+            }),
+            contender("grid", units, || {
+                sampler_pattern(&mut grid, SPP).to_bits() as u64
+            }),
+            contender("stratified", units, || {
+                sampler_pattern(&mut st, SPP).to_bits() as u64
+            }),
+        ],
+        true,
+    );
+}
+
+fn intersection(s: &mut Suite<'_>) {
+    for w in trace_workloads() {
+        let mut storage = vec![SphereChunk8::EMPTY; chunks_for(w.spheres.len())];
+        let Ok(set) = SphereSet::build(&w.spheres, &mut storage) else {
+            continue;
+        };
+        let spheres = &w.spheres;
+        let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
+        let n = w.rays.len() as f64;
+        let rays = &w.rays;
+        let first = s.figures.len();
+        s.compare(
+            "intersection",
+            &format!("closest/{}", w.name),
+            "rays",
+            vec![
+                contender("scalar", n, || {
+                    rays.iter()
+                        .filter(|r| closest_hit(r, spheres).is_some())
+                        .count() as u64
+                }),
+                contender("1x8", n, || {
+                    rays.iter()
+                        .filter(|r| closest_hit_1x8(r, &set).is_some())
+                        .count() as u64
+                }),
+                contender("packet", n, || {
+                    packets
+                        .iter()
+                        .map(|p| {
+                            let mut h = HitPacket8::NONE;
+                            closest_hit_x8(p, &set, &mut h);
+                            (0..8).filter(|&l| h.hit(l).is_some()).count() as u64
+                        })
+                        .sum()
+                }),
+            ],
+            true,
+        );
+        let shadows = shadow_rays(spheres, rays, w.light);
+        let shadow_packets: Vec<RayPacket8> =
+            shadows.chunks(8).map(RayPacket8::from_rays).collect();
+        let m = shadows.len() as f64;
+        let sh = &shadows;
+        s.compare(
+            "intersection",
+            &format!("shadow/{}", w.name),
+            "rays",
+            vec![
+                contender("scalar", m, || {
+                    sh.iter().filter(|r| any_hit(r, spheres)).count() as u64
+                }),
+                contender("1x8", m, || {
+                    sh.iter().filter(|r| any_hit_1x8(r, &set)).count() as u64
+                }),
+                contender("packet", m, || {
+                    shadow_packets
+                        .iter()
+                        .map(|p| any_hit_x8(p, &set).count_ones() as u64)
+                        .sum()
+                }),
+            ],
+            true,
+        );
+        // Closest-hit rays test every sphere: tests/s = rays/s × spheres.
+        for f in &mut s.figures[first..first + 3] {
+            f.extra.push((
+                "M tests/s".into(),
+                f.mega_per_s.median * spheres.len() as f64,
+            ));
+        }
+    }
+}
+
+fn rendering(s: &mut Suite<'_>) -> Result<()> {
+    for (name, spp, depth) in [("week09", 8u32, 5u32), ("cover", 2, 50)] {
+        let Some(scene) = built_in(name) else {
+            continue;
+        };
+        let job = |threads| Job {
+            scene: &scene,
+            width: 320,
+            height: 180,
+            spp,
+            samples: 0..spp,
+            max_depth: depth,
+            sampler: SamplerKind::Independent,
+            seed: 0,
+            threads,
+            tile: 16,
+            direct_lighting: true,
+        };
+        let probe = run(&job(1), &|_| {})?;
+        let paths = probe.stats.paths as f64;
+        let rays_per_path = (probe.stats.rays + probe.stats.shadow_rays) as f64 / paths;
+        let first = s.figures.len();
+        let render = |threads: usize| {
+            let j = job(threads);
+            move || run(&j, &|_| {}).map_or(0, |r| r.stats.rays)
+        };
+        s.compare(
+            "rendering",
+            &format!("render/{name}"),
+            "camera paths",
+            vec![
+                contender("1 thread", paths, render(1)),
+                contender("2 threads", paths, render(2)),
+            ],
+            true,
+        );
+        for f in &mut s.figures[first..] {
+            f.extra
+                .push(("M rays/s".into(), f.mega_per_s.median * rays_per_path));
+        }
+    }
+    Ok(())
+}
+
+/// The CPU model name, from `/proc/cpuinfo` where there is one.
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Runs the whole suite, reporting each comparison's name as it starts.
+pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
+    let mut s = Suite {
+        options,
+        figures: vec![],
+        ratios: vec![],
+        progress,
+    };
+    sampling(&mut s);
+    intersection(&mut s);
+    rendering(&mut s)?;
+    Ok(Report {
+        version: env!("CARGO_PKG_VERSION").into(),
+        simd: strata::trace::simd_level().name().into(),
+        cpu: cpu_model(),
+        cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        repetitions: options.repetitions,
+        figures: s.figures,
+        ratios: s.ratios,
+    })
+}
+
+/// The number of comparisons the suite runs (for a progress bar).
+pub const COMPARISONS: u64 = 5 + 8 + 2;
+
+/// The report as an aligned text table.
+pub fn table(r: &Report) -> String {
+    let mut out = format!(
+        "strata {} bench — {} ({} CPUs), simd {}, median of {} (min–max)\n",
+        r.version, r.cpu, r.cpus, r.simd, r.repetitions
+    );
+    let mut last = String::new();
+    for f in &r.figures {
+        if f.comparison != last {
+            out += &format!("\n{} / {}\n", f.group, f.comparison);
+            last = f.comparison.clone();
+        }
+        let extra: String = f
+            .extra
+            .iter()
+            .map(|(k, v)| format!("  {v:9.2} {k}"))
+            .collect();
+        out += &format!(
+            "  {:<20} {:10.2} M {}/s  ({:.2}–{:.2}){}\n",
+            f.name, f.mega_per_s.median, f.unit, f.mega_per_s.min, f.mega_per_s.max, extra
+        );
+    }
+    out += "\nratios (per repetition, median (min–max))\n";
+    for q in &r.ratios {
+        out += &format!(
+            "  {:<52} {:6.2}x  ({:.2}–{:.2})\n",
+            q.name, q.ratio.median, q.ratio.min, q.ratio.max
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stat_median_and_spread() {
+        assert_eq!(
+            Stat::of(&[3.0, 1.0, 2.0]),
+            Stat {
+                median: 2.0,
+                min: 1.0,
+                max: 3.0
+            }
+        );
+        assert_eq!(Stat::of(&[4.0, 1.0, 2.0, 3.0]).median, 2.5);
+    }
+
+    #[test]
+    fn suite_runs_quickly_and_reports_every_comparison() {
+        let o = Options {
+            repetitions: 1,
+            min_time: Duration::from_micros(1),
+        };
+        let seen = std::cell::Cell::new(0);
+        let r = run_suite(o, &|_| seen.set(seen.get() + 1)).unwrap();
+        assert_eq!(seen.get() as u64, COMPARISONS);
+        assert!(
+            r.figures
+                .iter()
+                .all(|f| f.mega_per_s.median > 0.0 && f.mega_per_s.median.is_finite())
+        );
+        assert!(
+            r.ratios
+                .iter()
+                .any(|q| q.name == "closest/cover_camera packet / scalar")
+        );
+        assert!(
+            r.ratios
+                .iter()
+                .any(|q| q.name == "render/cover 2 threads / 1 thread")
+        );
+        let json = serde_json::to_string(&r).unwrap();
+        assert!(json.contains("\"simd\""));
+        assert!(table(&r).contains("ratios"));
+    }
+}
