@@ -13,7 +13,9 @@
 use glam::Vec3;
 use wide::{f32x8, i32x8};
 
-use super::lanes::{Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bools};
+use super::lanes::{
+    Lanes, lanes_bitmask, lanes_eq, lanes_select, lanes_select_i32, mask_from_bools,
+};
 use super::{Hit, Ray, Sphere, sphere_t};
 
 /// Eight spheres as structure of arrays: one `f32x8` per coordinate and
@@ -189,23 +191,20 @@ pub fn closest_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> Option<Hit> {
         best_i = lanes_select_i32(closer, index, best_i);
         index += i32x8::splat(8);
     }
-    // Lowest t, then lowest index among equal t.
+    // Lowest t, then the lowest index among equal t (−0.0 equals 0.0, as
+    // in the scalar loop's strict `<`), with t read from that index's lane
+    // (sphere i sits in lane i % 8). Lanes never hold NaN: misses are +∞.
     let ts = best_t.to_array();
-    let is = best_i.to_array();
-    let mut best: Option<Hit> = None;
-    for lane in 0..8 {
-        if ts[lane] < f32::INFINITY {
-            let h = Hit {
-                t: ts[lane],
-                sphere: is[lane] as u32,
-            };
-            best = match best {
-                Some(b) if b.t < h.t || (b.t == h.t && b.sphere < h.sphere) => Some(b),
-                _ => Some(h),
-            };
-        }
+    let min_t = ts.iter().fold(f32::INFINITY, |m, &t| m.min(t));
+    if min_t == f32::INFINITY {
+        return None;
     }
-    best
+    let tied = lanes_eq(best_t, f32x8::splat(min_t));
+    let sphere = lanes_select_i32(tied, best_i, i32x8::splat(i32::MAX)).reduce_min();
+    Some(Hit {
+        t: ts[sphere as usize % 8],
+        sphere: sphere as u32,
+    })
 }
 
 /// Whether one ray hits any sphere of a [`SphereSet`], eight spheres per
@@ -408,18 +407,14 @@ pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPa
     }
     let mut best_t = hits.t;
     let mut best_i = hits.sphere;
-    let mut index = 0i32;
-    for c in set.chunks {
+    for (k, c) in set.chunks.iter().enumerate() {
         let (cx, cy, cz, r) = (
             c.cx.as_array(),
             c.cy.as_array(),
             c.cz.as_array(),
             c.r.as_array(),
         );
-        for lane in 0..8 {
-            if index as usize >= set.len {
-                break;
-            }
+        for lane in 0..(set.len - 8 * k).min(8) {
             let t = sphere_t(
                 p.ox,
                 p.oy,
@@ -436,8 +431,7 @@ pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPa
             );
             let closer = p.active & t.lt(best_t);
             best_t = lanes_select(closer, t, best_t);
-            best_i = lanes_select_i32(closer, i32x8::splat(index), best_i);
-            index += 1;
+            best_i = lanes_select_i32(closer, i32x8::splat((8 * k + lane) as i32), best_i);
         }
     }
     hits.t = best_t;
@@ -468,18 +462,14 @@ pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
     }
     let inf = f32x8::splat(f32::INFINITY);
     let mut occluded = 0u32;
-    let mut index = 0usize;
-    for c in set.chunks {
+    for (k, c) in set.chunks.iter().enumerate() {
         let (cx, cy, cz, r) = (
             c.cx.as_array(),
             c.cy.as_array(),
             c.cz.as_array(),
             c.r.as_array(),
         );
-        for lane in 0..8 {
-            if index >= set.len {
-                break;
-            }
+        for lane in 0..(set.len - 8 * k).min(8) {
             let t = sphere_t(
                 p.ox,
                 p.oy,
@@ -498,7 +488,6 @@ pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
             if occluded == active {
                 return occluded;
             }
-            index += 1;
         }
     }
     occluded
