@@ -12,6 +12,9 @@
 //!    of seeded random rays against the course and cover layouts, through
 //!    the scalar, 1×8 and packet paths. CI runs it on an SSE2 and a native
 //!    (AVX2/AVX-512) build: both must produce these very values.
+//! 5. The render lock: a hash of the exact film sums of small renders of
+//!    every built-in scene with every sampler. It pins the whole path: the
+//!    dimension layout, every material, lights and MIS, the film.
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation: the properties (uniformity, independence, stratification,
@@ -263,4 +266,74 @@ fn tracing_lock() {
     }
     let lock = [0x25f6d800a7fff84a_u64, 0xa227d07a7e715550];
     assert_eq!(digests, lock, "hits changed: {digests:#018x?}\n{CHANGED}");
+}
+
+#[test]
+fn render_lock() {
+    use strata::render::{
+        Camera, PixelSum, RenderSettings, Scene, Tile, collect_lights, render_tile,
+    };
+    use strata::trace::{SphereChunk8, SphereSet, chunks_for};
+    use strata_runner::scenes::{BUILT_IN, built_in};
+    fn film<S: Sampler + Clone>(name: &str, sampler: S) -> u64 {
+        let data = built_in(name).unwrap();
+        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(data.spheres.len())];
+        let set = SphereSet::build(&data.spheres, &mut chunks).unwrap();
+        let materials = data.materials();
+        let mut lights = vec![0u32; data.spheres.len()];
+        let n = collect_lights(&materials, &data.sphere_material, &mut lights).unwrap();
+        let scene = Scene::new(
+            &data.spheres,
+            set,
+            &materials,
+            &data.sphere_material,
+            &lights[..n],
+            data.background,
+        )
+        .unwrap();
+        let camera = Camera::new(&data.camera, 32, 18).unwrap();
+        let settings = RenderSettings {
+            max_depth: 8,
+            direct_lighting: true,
+        };
+        let tile = Tile {
+            x0: 0,
+            y0: 0,
+            width: 32,
+            height: 18,
+        };
+        let mut film = vec![PixelSum::ZERO; tile.area()];
+        render_tile(&scene, &camera, &sampler, &settings, tile, 0..4, &mut film).unwrap();
+        fnv(film.iter().flat_map(|p| {
+            let [r, g, b] = p.sum;
+            [
+                r as u32,
+                (r >> 32) as u32,
+                g as u32,
+                (g >> 32) as u32,
+                b as u32,
+                (b >> 32) as u32,
+                p.samples,
+                p.dropped,
+            ]
+        }))
+    }
+    let mut got = vec![];
+    for name in BUILT_IN {
+        got.push(film(name, Independent::new(4, 5).unwrap()));
+        got.push(film(name, UniformGrid::new(4, 5).unwrap()));
+        got.push(film(name, Stratified::new(4, 5).unwrap()));
+    }
+    let lock: [u64; 9] = [
+        0xa3b1b2bcd3e21f77,
+        0xce8d68df935a9439,
+        0x4f28f547359e6b5b,
+        0x8d79f6b18daa403c,
+        0xcdca85e9a21a9c62,
+        0x332191608714f4cf,
+        0xef9e80853e86fd92,
+        0x7fa9bbbe2ce4aea2,
+        0x39144b2cc4deda66,
+    ];
+    assert_eq!(got, lock, "renders changed: {got:#018x?}\n{CHANGED}");
 }

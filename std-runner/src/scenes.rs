@@ -271,7 +271,8 @@ pub fn cover() -> SceneData {
             look_at: Vec3::ZERO,
             up: Vec3::Y,
             vfov_deg: 20.0,
-            defocus_angle_deg: 2.0 * (0.05f32 / focus).atan().to_degrees(),
+            // libm, not the platform's atan: the same lens bits everywhere.
+            defocus_angle_deg: 2.0 * libm::atanf(0.05 / focus).to_degrees(),
             focus_dist: focus,
         },
         background: Background::Sky,

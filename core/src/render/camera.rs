@@ -34,8 +34,9 @@ pub enum CameraError {
     DegenerateView,
     /// The field of view is not in `(0, 180)` degrees.
     FieldOfView,
-    /// The focus distance is not positive and finite, or the defocus angle
-    /// is not in `[0, 180)` degrees.
+    /// The focus distance is not positive and finite (or so extreme that a
+    /// pixel on the focus plane is not representable), or the defocus
+    /// angle is not in `[0, 180)` degrees.
     Lens,
 }
 
@@ -111,6 +112,12 @@ impl Camera {
         let dv = down / height as f32;
         let corner = desc.look_from - w * desc.focus_dist - across * 0.5 - down * 0.5;
         let lens_radius = desc.focus_dist * libm::tanf(desc.defocus_angle_deg.to_radians() * 0.5);
+        // A focus distance so small or large that a pixel step underflows
+        // or overflows would make every ray NaN: refuse it.
+        let step_ok = |v: Vec3| v.is_finite() && v.length_squared() > 0.0;
+        if !(step_ok(du) && step_ok(dv) && corner.is_finite() && lens_radius.is_finite()) {
+            return Err(CameraError::Lens);
+        }
         Ok(Self {
             origin: desc.look_from,
             corner,
@@ -172,6 +179,8 @@ mod tests {
         assert_eq!(e(|d| d.vfov_deg = 180.0), CameraError::FieldOfView);
         assert_eq!(e(|d| d.vfov_deg = f32::NAN), CameraError::FieldOfView);
         assert_eq!(e(|d| d.focus_dist = 0.0), CameraError::Lens);
+        assert_eq!(e(|d| d.focus_dist = 1e-40), CameraError::Lens);
+        assert_eq!(e(|d| d.focus_dist = 1e38), CameraError::Lens);
         assert_eq!(e(|d| d.defocus_angle_deg = -1.0), CameraError::Lens);
         assert_eq!(e(|d| d.look_at = d.look_from), CameraError::DegenerateView);
         assert_eq!(
@@ -199,6 +208,17 @@ mod tests {
                 (b.at(t) - focus).length()
             );
         }
+    }
+
+    #[test]
+    fn lens_radius_is_focus_times_tan_half_angle() {
+        let cam = Camera::new(&desc(), 16, 9).unwrap();
+        let centre = cam.ray(UVec2::new(3, 3), Vec2::ZERO, Vec2::splat(0.5));
+        // The lens sample (1, 0.5) is the rim of the concentric disk.
+        let rim = cam.ray(UVec2::new(3, 3), Vec2::ZERO, Vec2::new(1.0, 0.5));
+        let want = 10.0 * (0.6f32.to_radians() * 0.5).tan();
+        assert_eq!(centre.origin, Vec3::new(13.0, 2.0, 3.0));
+        assert!(((rim.origin - centre.origin).length() - want).abs() < 1e-6);
     }
 
     #[test]

@@ -93,7 +93,8 @@ pub enum Material<'a> {
         roughness: f32,
     },
     /// Glass: reflects with Schlick's probability (always under total
-    /// internal reflection), else refracts; colourless.
+    /// internal reflection), else refracts; colourless. Schlick takes the
+    /// cosine on the outside (air) side of the interface.
     Dielectric {
         /// Index of refraction relative to the outside, `> 0`.
         ior: f32,
@@ -488,11 +489,15 @@ impl Material<'_> {
                 let eta = if hit.front_face { 1.0 / ior } else { *ior };
                 let cos_i = (-d.dot(n)).min(1.0);
                 let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-                let reflects = sin2_t > 1.0 || u_lobe < schlick(cos_i, r0_of(eta));
+                let cos_t = libm::sqrtf((1.0 - sin2_t).max(0.0));
+                // Schlick's approximation takes the cosine on the side of the
+                // thinner medium: the incident one entering, the
+                // transmitted one leaving (else it is far too low inside).
+                let cos_outside = if eta <= 1.0 { cos_i } else { cos_t };
+                let reflects = sin2_t > 1.0 || u_lobe < schlick(cos_outside, r0_of(eta));
                 let wi = if reflects {
                     reflect(d, n)
                 } else {
-                    let cos_t = libm::sqrtf((1.0 - sin2_t).max(0.0));
                     (d * eta + n * (eta * cos_i - cos_t)).normalize()
                 };
                 Some(BsdfSample {
@@ -532,6 +537,62 @@ mod tests {
         front_face: true,
         uv: Vec2::ZERO,
     };
+
+    #[test]
+    fn metal_directions_are_unit() {
+        let m = Material::Metal {
+            albedo: Vec3::ONE,
+            roughness: 1.0,
+        };
+        let d = Vec3::new(0.6, -0.8, 0.0);
+        for k in 0..100 {
+            let u = Vec2::new(k as f32 / 100.0, (k * 37 % 100) as f32 / 100.0);
+            if let Some(s) = m.sample(d, &HIT, u, 0.0) {
+                assert!((s.wi.length() - 1.0).abs() < 1e-6 && s.wi.y > 0.0);
+            }
+        }
+    }
+
+    /// Glass reflects with Schlick's probability on the air-side cosine,
+    /// entering and leaving alike.
+    #[test]
+    fn glass_reflects_with_schlick_probability() {
+        let g = Material::Dielectric { ior: 1.5 };
+        let r0 = (0.5f32 / 2.5).powi(2);
+        let schlick = |c: f32| r0 + (1.0 - r0) * (1.0 - c).powi(5);
+        // Entering at 60°: the air-side cosine is the incident one.
+        let d = Vec3::new(0.866_025_4, -0.5, 0.0);
+        let want = schlick(0.5);
+        let frac = |d: Vec3, hit: &SurfaceHit| {
+            let n = 10_000;
+            (0..n)
+                .filter(|&k| {
+                    !g.sample(d, hit, Vec2::ZERO, (k as f32 + 0.5) / n as f32)
+                        .unwrap()
+                        .transmitted
+                })
+                .count() as f32
+                / n as f32
+        };
+        assert!(
+            (frac(d, &HIT) - want).abs() < 2e-4,
+            "{} vs {want}",
+            frac(d, &HIT)
+        );
+        // Leaving at 30° inside: the ray refracts to 48.6° in air.
+        let inside = SurfaceHit {
+            front_face: false,
+            ..HIT
+        };
+        let d = Vec3::new(0.5, -0.866_025_4, 0.0);
+        let cos_t = (1.0f32 - (1.5f32 * 0.5).powi(2)).sqrt();
+        let want = schlick(cos_t);
+        assert!(
+            (frac(d, &inside) - want).abs() < 2e-4,
+            "{} vs {want}",
+            frac(d, &inside)
+        );
+    }
 
     #[test]
     fn mirror_reflects() {

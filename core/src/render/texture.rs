@@ -115,6 +115,9 @@ impl Texture<'_> {
 /// // A pole whose n_y rounded past 1 still maps (acos would give NaN).
 /// assert!((sphere_uv(Vec3::new(0.0, 1.0000001, 0.0)).y - 1.0).abs() < 1e-6);
 /// assert!((sphere_uv(Vec3::X) - Vec2::new(0.5, 0.5)).length() < 1e-6);
+/// // u runs from −x through +z (u = 1/4), +x (1/2), −z (3/4).
+/// assert!((sphere_uv(Vec3::Z).x - 0.25).abs() < 1e-6);
+/// assert!((sphere_uv(-Vec3::Z).x - 0.75).abs() < 1e-6);
 /// ```
 #[inline]
 #[must_use]
