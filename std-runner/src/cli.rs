@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, value_parser};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::image_io::{Transfer, check_output, flush_stdout, write_image};
+use crate::image_io::{Transfer, check_output, say, write_image};
 use crate::render::{Job, SamplerKind, run};
 use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
 use crate::scenes::{BUILT_IN, SceneData, built_in};
@@ -85,12 +85,11 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         bar.inc(1);
     })?;
     bar.finish_and_clear();
-    print!("{}", crate::bench::table(&report));
+    say(crate::bench::table(&report).trim_end());
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&report)?;
         std::fs::write(path, text).with_context(|| format!("writing `{}`", path.display()))?;
     }
-    flush_stdout();
     Ok(())
 }
 
@@ -163,8 +162,9 @@ pub fn resolve_scene(arg: &str) -> Result<SceneData> {
     )
 }
 
-/// The largest image accepted, in pixels.
-pub const MAX_PIXELS: u64 = 1 << 28;
+/// The largest image accepted, in pixels: 2²⁵ (e.g. 8192 × 4096), whose
+/// films and output buffers need about 2.5 GiB at the peak.
+pub const MAX_PIXELS: u64 = 1 << 25;
 
 /// Runs `strata render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
@@ -245,7 +245,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     .with_context(|| format!("writing `{}`", output.display()))?;
 
     let secs = rendered.wall.as_secs_f64();
-    println!(
+    say(&format!(
         "{}: {}x{} {} spp ({}, seed {}), depth {}, to {}",
         scene.name,
         width,
@@ -255,9 +255,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         args.seed,
         max_depth,
         output.display()
-    );
+    ));
     let st = rendered.stats;
-    println!(
+    say(&format!(
         "{:.3} s on {} threads ({}): {:.2} M samples/s, {:.2} M rays/s{}",
         secs,
         args.threads,
@@ -269,8 +269,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         } else {
             String::new()
         }
-    );
-    flush_stdout();
+    ));
     Ok(())
 }
 
@@ -309,7 +308,7 @@ pub fn metadata(job: &Job<'_>, transfer: Transfer) -> Vec<(String, String)> {
 /// Parses and runs a command line; what `main` calls.
 pub fn main_with(cli: Cli) -> Result<()> {
     if cli.version {
-        println!("{}", crate::version_line());
+        say(&crate::version_line());
         return Ok(());
     }
     match cli.command {

@@ -168,8 +168,13 @@ fn write_exr(
         (p.x, p.y, p.z)
     });
     // One text attribute holds all metadata: exr keeps custom attributes in
-    // a hash map whose order would vary between runs.
-    let comments: String = metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
+    // a hash map whose order would vary between runs. EXR is linear, so the
+    // PNG transfer curve does not belong in it.
+    let comments: String = metadata
+        .iter()
+        .filter(|(k, _)| k != "strata.transfer")
+        .map(|(k, v)| format!("{k}={v}\n"))
+        .collect();
     let mut attributes = LayerAttributes::named("rgb");
     attributes.comments = Some(Text::from(comments.as_str()));
     attributes.software_name = Some(Text::from(
@@ -190,13 +195,25 @@ fn write_exr(
     Ok(())
 }
 
+/// The largest texture accepted, in texels (64 Mi: 768 MiB of linear RGB).
+pub const MAX_TEXELS: u64 = 1 << 26;
+
 /// Reads a PNG (8- or 16-bit, grey, grey-alpha, RGB or RGBA; alpha is
-/// ignored) and decodes its sRGB values to linear RGB.
+/// ignored) and decodes its sRGB values to linear RGB. A header that
+/// claims more than [`MAX_TEXELS`] texels is refused before anything is
+/// allocated.
 pub fn read_png_linear(path: &Path) -> Result<Image> {
     let file = std::fs::File::open(path).context("cannot open")?;
-    let mut dec = png::Decoder::new(std::io::BufReader::new(file));
+    let limits = png::Limits {
+        bytes: (MAX_TEXELS * 4) as usize,
+    };
+    let mut dec = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits);
     dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = dec.read_info().context("not a PNG")?;
+    let mut reader = dec.read_info().context("not a readable PNG")?;
+    let (w, h) = (reader.info().width as u64, reader.info().height as u64);
+    if w * h > MAX_TEXELS {
+        bail!("{w} x {h} texels is over the limit of {MAX_TEXELS}");
+    }
     let size = reader.output_buffer_size().context("image too large")?;
     let mut buf = vec![0; size];
     let info = reader.next_frame(&mut buf).context("corrupt PNG")?;
@@ -231,9 +248,12 @@ pub fn read_png_linear(path: &Path) -> Result<Image> {
     })
 }
 
-/// Flushes stdout, ignoring a closed pipe.
-pub fn flush_stdout() {
-    std::io::stdout().flush().ok();
+/// Writes a line to stdout, ignoring a closed pipe or a full disk: the
+/// image is already written, and a report nobody reads is no error.
+pub fn say(line: &str) {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}").ok();
+    out.flush().ok();
 }
 
 #[cfg(test)]

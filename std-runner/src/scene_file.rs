@@ -246,7 +246,15 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
     let file: File = toml::from_str(text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
         let field = enclosing_table(text, span.start);
-        at(span, &field, e.message().to_string())
+        let message = e.message();
+        if message.contains("FileBackground") {
+            return at(
+                span,
+                "background",
+                "must be \"sky\" or an RGB radiance [r, g, b]".into(),
+            );
+        }
+        at(span, &field, message.to_string())
     })?;
     let v3 = |s: &Spanned<[f32; 3]>, field: &str| -> Result<Vec3, SceneFileError> {
         let v = Vec3::from(*s.get_ref());
@@ -563,6 +571,88 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
                 None,
             ),
         };
+        // Each parameter by name, so the message names the field.
+        let param = |ok: bool, name: &str, rule: &str, value: f32| {
+            if ok {
+                Ok(())
+            } else {
+                Err(at(
+                    span.clone(),
+                    &format!("{field}.{name}"),
+                    format!("{rule}, got {value}"),
+                ))
+            }
+        };
+        let weight = |name: &str, v: f32| {
+            param(
+                v >= 0.0 && v.is_finite(),
+                name,
+                "must be finite and at least 0",
+                v,
+            )
+        };
+        match &material {
+            Material::Phong {
+                kd, ks, exponent, ..
+            }
+            | Material::Blinn {
+                kd, ks, exponent, ..
+            }
+            | Material::PhongNormalized {
+                kd, ks, exponent, ..
+            }
+            | Material::BlinnNormalized {
+                kd, ks, exponent, ..
+            } => {
+                weight("kd", *kd)?;
+                weight("ks", *ks)?;
+                weight("exponent", *exponent)?;
+                if matches!(
+                    material,
+                    Material::PhongNormalized { .. } | Material::BlinnNormalized { .. }
+                ) {
+                    param(
+                        kd + ks <= 1.0,
+                        "ks",
+                        "kd + ks must be at most 1 for a normalised lobe",
+                        *ks,
+                    )?;
+                }
+            }
+            Material::Metal { roughness, .. } => {
+                param(
+                    (0.0..=1.0).contains(roughness),
+                    "roughness",
+                    "must be in [0, 1]",
+                    *roughness,
+                )?;
+            }
+            Material::Dielectric { ior } => param(
+                *ior > 0.0 && ior.is_finite(),
+                "ior",
+                "must be positive",
+                *ior,
+            )?,
+            Material::CookTorrance {
+                kd, ks, alpha, ior, ..
+            } => {
+                weight("kd", *kd)?;
+                weight("ks", *ks)?;
+                param(
+                    *alpha > 0.0 && *alpha <= 1.0,
+                    "alpha",
+                    "must be in (0, 1]",
+                    *alpha,
+                )?;
+                param(
+                    *ior > 0.0 && ior.is_finite(),
+                    "ior",
+                    "must be positive",
+                    *ior,
+                )?;
+            }
+            _ => {}
+        }
         if let Err(e) = material.validate() {
             use strata::render::MaterialError::*;
             let why = match e {

@@ -491,3 +491,26 @@ fn bench_writes_a_table_and_json() {
     let e = refused(dir.path(), &["bench", "--repetitions", "0"]);
     assert!(e.contains("--repetitions"), "{e}");
 }
+
+/// A full or closed stdout (`strata ... > /dev/full`, `| head`) is no
+/// reason to fail: the image is written, and the report is lost quietly.
+#[test]
+fn a_full_stdout_is_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["render", "--width", "16", "--spp", "1", "-o", "f.png"])
+        .current_dir(dir.path())
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.path().join("f.png").exists());
+}

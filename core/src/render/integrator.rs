@@ -21,7 +21,12 @@
 //! **max_depth** is the number of ray segments from the camera (the
 //! course's, RTIOW's and Mitsuba's convention, COURSE.md D8): 1 sees only
 //! what camera rays hit; shadow rays do not count. No Russian roulette: a
-//! path still bouncing after `max_depth` segments ends black.
+//! path still bouncing after `max_depth` segments ends black. Direct
+//! lighting is the light-sampling twin of the next BSDF segment, so, as in
+//! pbrt and Mitsuba, the vertex at the end of the last segment takes none:
+//! `max_depth = 1` shows emitters and the background only, and depth 2 is
+//! direct lighting. (The course also lit its last vertex; with MIS that
+//! would weight a strategy whose twin is never traced.)
 //!
 //! **Direct lighting** picks one light uniformly, samples the cone its
 //! sphere subtends ([`sample_uniform_cone`]), and traces a shadow ray
