@@ -33,7 +33,10 @@ fn intersect(c: &mut Criterion) {
                 .map(|p| {
                     let mut hits = HitPacket8::NONE;
                     closest_hit_x8(black_box(p), &set, &mut hits);
-                    (0..8).filter(|&l| hits.hit(l).is_some()).count()
+                    hits.t
+                        .simd_lt(wide::f32x8::splat(f32::INFINITY))
+                        .to_bitmask()
+                        .count_ones() as usize
                 })
                 .sum::<usize>()
         };

@@ -123,12 +123,6 @@ pub(crate) fn lanes_select_i32(mask: f32x8, a: i32x8, b: i32x8) -> i32x8 {
     wide::Select::select(m, a, b)
 }
 
-/// `a == b` per lane (false where either is NaN; `−0.0 == 0.0`).
-#[inline(always)]
-pub(crate) fn lanes_eq(a: f32x8, b: f32x8) -> f32x8 {
-    a.simd_eq(b)
-}
-
 /// Bit `k` set when lane `k` of the mask is set.
 #[inline(always)]
 pub(crate) fn lanes_bitmask(mask: f32x8) -> u32 {

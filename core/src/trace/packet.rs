@@ -13,9 +13,7 @@
 use glam::Vec3;
 use wide::{f32x8, i32x8};
 
-use super::lanes::{
-    Lanes, lanes_bitmask, lanes_eq, lanes_select, lanes_select_i32, mask_from_bools,
-};
+use super::lanes::{Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bools};
 use super::{Hit, Ray, Sphere, sphere_t};
 
 /// Eight spheres as structure of arrays: one `f32x8` per coordinate and
@@ -192,19 +190,25 @@ pub fn closest_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> Option<Hit> {
         index += i32x8::splat(8);
     }
     // Lowest t, then the lowest index among equal t (−0.0 equals 0.0, as
-    // in the scalar loop's strict `<`), with t read from that index's lane
-    // (sphere i sits in lane i % 8). Lanes never hold NaN: misses are +∞.
-    let ts = best_t.to_array();
-    let min_t = ts.iter().fold(f32::INFINITY, |m, &t| m.min(t));
-    if min_t == f32::INFINITY {
+    // in the scalar loop's strict `<`), visiting only lanes that hit.
+    let mut bits = lanes_bitmask(best_t.lt(f32x8::splat(f32::INFINITY)));
+    if bits == 0 {
         return None;
     }
-    let tied = lanes_eq(best_t, f32x8::splat(min_t));
-    let sphere = lanes_select_i32(tied, best_i, i32x8::splat(i32::MAX)).reduce_min();
-    Some(Hit {
-        t: ts[sphere as usize % 8],
-        sphere: sphere as u32,
-    })
+    let (ts, is) = (best_t.to_array(), best_i.to_array());
+    let mut best = Hit {
+        t: f32::INFINITY,
+        sphere: u32::MAX,
+    };
+    while bits != 0 {
+        let lane = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let (t, sphere) = (ts[lane], is[lane] as u32);
+        if t < best.t || (t == best.t && sphere < best.sphere) {
+            best = Hit { t, sphere };
+        }
+    }
+    Some(best)
 }
 
 /// Whether one ray hits any sphere of a [`SphereSet`], eight spheres per
