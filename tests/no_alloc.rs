@@ -7,8 +7,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, collect_lights, render_tile};
-use strata::trace::{SphereChunk8, SphereSet, chunks_for};
+use strata::render::{Camera, PixelSum, RenderSettings, Tile, render_tile};
 use strata::{Independent, Sampler, Stratified};
 use strata_runner::scenes::{BUILT_IN, built_in};
 
@@ -61,20 +60,6 @@ fn allocations_in(f: impl FnOnce()) -> usize {
 
 fn check<S: Sampler + Clone>(name: &str, sampler: S) {
     let data = built_in(name).unwrap();
-    let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(data.spheres.len())];
-    let set = SphereSet::build(&data.spheres, &mut chunks).unwrap();
-    let materials = data.materials();
-    let mut lights = vec![0u32; data.spheres.len()];
-    let n = collect_lights(&materials, &data.sphere_material, &mut lights).unwrap();
-    let scene = Scene::new(
-        &data.spheres,
-        set,
-        &materials,
-        &data.sphere_material,
-        &lights[..n],
-        data.background,
-    )
-    .unwrap();
     let camera = Camera::new(&data.camera, 64, 36).unwrap();
     let settings = RenderSettings {
         max_depth: data.defaults.max_depth,
@@ -87,19 +72,23 @@ fn check<S: Sampler + Clone>(name: &str, sampler: S) {
         height: 16,
     };
     let mut film = vec![PixelSum::ZERO; tile.area()];
-    let mut stats = None;
-    let count = allocations_in(|| {
-        stats = Some(render_tile(
-            &scene,
-            &camera,
-            &sampler,
-            &settings,
-            tile,
-            0..8,
-            &mut film,
-        ));
-    });
-    let stats = stats.unwrap().unwrap();
+    let (count, stats) = data
+        .with_scene(|scene| {
+            let mut stats = None;
+            let count = allocations_in(|| {
+                stats = Some(render_tile(
+                    scene,
+                    &camera,
+                    &sampler,
+                    &settings,
+                    tile,
+                    0..8,
+                    &mut film,
+                ));
+            });
+            (count, stats.unwrap().unwrap())
+        })
+        .unwrap();
     assert!(stats.rays > 0);
     assert_eq!(
         count, 0,

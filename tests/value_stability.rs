@@ -270,27 +270,10 @@ fn tracing_lock() {
 
 #[test]
 fn render_lock() {
-    use strata::render::{
-        Camera, PixelSum, RenderSettings, Scene, Tile, collect_lights, render_tile,
-    };
-    use strata::trace::{SphereChunk8, SphereSet, chunks_for};
+    use strata::render::{Camera, PixelSum, RenderSettings, Tile, render_tile};
     use strata_runner::scenes::{BUILT_IN, built_in};
     fn film<S: Sampler + Clone>(name: &str, sampler: S) -> u64 {
         let data = built_in(name).unwrap();
-        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(data.spheres.len())];
-        let set = SphereSet::build(&data.spheres, &mut chunks).unwrap();
-        let materials = data.materials();
-        let mut lights = vec![0u32; data.spheres.len()];
-        let n = collect_lights(&materials, &data.sphere_material, &mut lights).unwrap();
-        let scene = Scene::new(
-            &data.spheres,
-            set,
-            &materials,
-            &data.sphere_material,
-            &lights[..n],
-            data.background,
-        )
-        .unwrap();
         let camera = Camera::new(&data.camera, 32, 18).unwrap();
         let settings = RenderSettings {
             max_depth: 8,
@@ -303,7 +286,11 @@ fn render_lock() {
             height: 18,
         };
         let mut film = vec![PixelSum::ZERO; tile.area()];
-        render_tile(&scene, &camera, &sampler, &settings, tile, 0..4, &mut film).unwrap();
+        data.with_scene(|scene| {
+            render_tile(scene, &camera, &sampler, &settings, tile, 0..4, &mut film)
+        })
+        .unwrap()
+        .unwrap();
         fnv(film.iter().flat_map(|p| {
             let [r, g, b] = p.sum;
             [

@@ -9,10 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use rayon::prelude::*;
-use strata::render::{
-    Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, collect_lights, render_tile,
-};
-use strata::trace::{SphereChunk8, SphereSet, chunks_for};
+use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile};
 use strata::{Independent, Sampler, Stratified, UniformGrid};
 
 use crate::scenes::SceneData;
@@ -96,22 +93,6 @@ pub fn tiles(width: u32, height: u32, side: u32) -> Vec<Tile> {
 /// Renders `job`, calling `progress` with each finished tile's pixel count.
 pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     let data = job.scene;
-    let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(data.spheres.len())];
-    let set = SphereSet::build(&data.spheres, &mut chunks).map_err(|e| anyhow!("{e:?}"))?;
-    let materials = data.materials();
-    let mut lights = vec![0u32; data.spheres.len()];
-    let n = collect_lights(&materials, &data.sphere_material, &mut lights)
-        .ok_or_else(|| anyhow!("a sphere names a missing material"))?;
-    lights.truncate(n);
-    let scene = Scene::new(
-        &data.spheres,
-        set,
-        &materials,
-        &data.sphere_material,
-        &lights,
-        data.background,
-    )
-    .map_err(|e| anyhow!("scene `{}` is invalid: {e:?}", data.name))?;
     let camera = Camera::new(&data.camera, job.width, job.height)
         .map_err(|e| anyhow!("camera of `{}`: {e:?}", data.name))?;
     let settings = RenderSettings {
@@ -123,32 +104,34 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         .build()
         .context("cannot start the worker threads")?;
     let start = Instant::now();
-    let films = pool.install(|| match job.sampler {
-        SamplerKind::Independent => render_all(
-            job,
-            &scene,
-            &camera,
-            &settings,
-            Independent::new(job.spp, job.seed),
-            progress,
-        ),
-        SamplerKind::Grid => render_all(
-            job,
-            &scene,
-            &camera,
-            &settings,
-            UniformGrid::new(job.spp, job.seed),
-            progress,
-        ),
-        SamplerKind::Stratified => render_all(
-            job,
-            &scene,
-            &camera,
-            &settings,
-            Stratified::new(job.spp, job.seed),
-            progress,
-        ),
-    })?;
+    let films = data.with_scene(|scene| {
+        pool.install(|| match job.sampler {
+            SamplerKind::Independent => render_all(
+                job,
+                scene,
+                &camera,
+                &settings,
+                Independent::new(job.spp, job.seed),
+                progress,
+            ),
+            SamplerKind::Grid => render_all(
+                job,
+                scene,
+                &camera,
+                &settings,
+                UniformGrid::new(job.spp, job.seed),
+                progress,
+            ),
+            SamplerKind::Stratified => render_all(
+                job,
+                scene,
+                &camera,
+                &settings,
+                Stratified::new(job.spp, job.seed),
+                progress,
+            ),
+        })
+    })??;
     let wall = start.elapsed();
     let mut pixels = vec![PixelSum::ZERO; job.width as usize * job.height as usize];
     let mut stats = TileStats::default();

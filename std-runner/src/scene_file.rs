@@ -57,7 +57,7 @@ use strata::trace::Sphere;
 use toml::Spanned;
 
 use crate::image_io::read_png_linear;
-use crate::scenes::{Defaults, Image, SceneData, takes_texture};
+use crate::scenes::{Defaults, Image, SceneData};
 
 /// A scene file that could not be used: where and why.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -664,7 +664,7 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
             };
             return Err(err(why.into()));
         }
-        debug_assert!(image.is_none() || takes_texture(&material));
+        debug_assert!(image.is_none() || material.is_smooth());
         if let Some(img) = image {
             image_albedo.push((materials.len(), img));
         }

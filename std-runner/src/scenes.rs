@@ -4,9 +4,11 @@
 //! texture).
 
 use glam::Vec3;
-use strata::render::{Background, CameraDesc, ImageTexture, Material, Texture};
+use strata::render::{
+    Background, CameraDesc, ImageTexture, Material, Scene, Texture, collect_lights,
+};
 use strata::rng::{Pcg32, next_f32};
-use strata::trace::Sphere;
+use strata::trace::{Sphere, SphereChunk8, SphereSet, chunks_for};
 
 use crate::workload::{course_spheres, cover_spheres};
 
@@ -107,20 +109,29 @@ fn with_albedo<'a>(material: Material<'static>, albedo: Texture<'a>) -> Material
     }
 }
 
-/// Whether a material kind takes a texture as albedo.
-pub fn takes_texture(material: &Material<'_>) -> bool {
-    matches!(
-        material,
-        Material::Lambertian { .. }
-            | Material::Phong { .. }
-            | Material::Blinn { .. }
-            | Material::PhongNormalized { .. }
-            | Material::BlinnNormalized { .. }
-            | Material::CookTorrance { .. }
-    )
-}
-
 impl SceneData {
+    /// Builds the core's view of the scene (8-wide sphere chunks, the
+    /// materials with their images, the light list) and hands it to `f`.
+    pub fn with_scene<R>(&self, f: impl FnOnce(&Scene<'_>) -> R) -> anyhow::Result<R> {
+        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(self.spheres.len())];
+        let set =
+            SphereSet::build(&self.spheres, &mut chunks).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let materials = self.materials();
+        let mut lights = vec![0u32; self.spheres.len()];
+        let n = collect_lights(&materials, &self.sphere_material, &mut lights)
+            .ok_or_else(|| anyhow::anyhow!("a sphere names a missing material"))?;
+        let scene = Scene::new(
+            &self.spheres,
+            set,
+            &materials,
+            &self.sphere_material,
+            &lights[..n],
+            self.background,
+        )
+        .map_err(|e| anyhow::anyhow!("scene `{}` is invalid: {e:?}", self.name))?;
+        Ok(f(&scene))
+    }
+
     /// The materials with image textures attached, borrowing the texels.
     pub fn materials(&self) -> Vec<Material<'_>> {
         let mut out: Vec<Material<'_>> = self.materials.to_vec();

@@ -344,6 +344,27 @@ impl RayPacket8 {
     }
 }
 
+/// The kernel for all eight rays of a packet against sphere `lane` of a
+/// chunk, broadcast to every lane.
+#[inline(always)]
+fn packet_sphere_t(p: &RayPacket8, c: &SphereChunk8, lane: usize) -> f32x8 {
+    let at = |v: &f32x8| f32x8::splat(v.as_array()[lane]);
+    sphere_t(
+        p.ox,
+        p.oy,
+        p.oz,
+        p.dx,
+        p.dy,
+        p.dz,
+        at(&c.cx),
+        at(&c.cy),
+        at(&c.cz),
+        at(&c.r),
+        p.t_min,
+        p.t_max,
+    )
+}
+
 /// Per-lane closest hits of a [`RayPacket8`]: `t` (`+∞` for none) and the
 /// sphere index (−1 for none).
 #[derive(Clone, Copy, Debug)]
@@ -412,27 +433,8 @@ pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPa
     let mut best_t = hits.t;
     let mut best_i = hits.sphere;
     for (k, c) in set.chunks.iter().enumerate() {
-        let (cx, cy, cz, r) = (
-            c.cx.as_array(),
-            c.cy.as_array(),
-            c.cz.as_array(),
-            c.r.as_array(),
-        );
         for lane in 0..(set.len - 8 * k).min(8) {
-            let t = sphere_t(
-                p.ox,
-                p.oy,
-                p.oz,
-                p.dx,
-                p.dy,
-                p.dz,
-                f32x8::splat(cx[lane]),
-                f32x8::splat(cy[lane]),
-                f32x8::splat(cz[lane]),
-                f32x8::splat(r[lane]),
-                p.t_min,
-                p.t_max,
-            );
+            let t = packet_sphere_t(p, c, lane);
             let closer = p.active & t.lt(best_t);
             best_t = lanes_select(closer, t, best_t);
             best_i = lanes_select_i32(closer, i32x8::splat((8 * k + lane) as i32), best_i);
@@ -467,27 +469,8 @@ pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
     let inf = f32x8::splat(f32::INFINITY);
     let mut occluded = 0u32;
     for (k, c) in set.chunks.iter().enumerate() {
-        let (cx, cy, cz, r) = (
-            c.cx.as_array(),
-            c.cy.as_array(),
-            c.cz.as_array(),
-            c.r.as_array(),
-        );
         for lane in 0..(set.len - 8 * k).min(8) {
-            let t = sphere_t(
-                p.ox,
-                p.oy,
-                p.oz,
-                p.dx,
-                p.dy,
-                p.dz,
-                f32x8::splat(cx[lane]),
-                f32x8::splat(cy[lane]),
-                f32x8::splat(cz[lane]),
-                f32x8::splat(r[lane]),
-                p.t_min,
-                p.t_max,
-            );
+            let t = packet_sphere_t(p, c, lane);
             occluded |= lanes_bitmask(p.active & t.lt(inf));
             if occluded == active {
                 return occluded;
