@@ -225,6 +225,20 @@ fn storage_sizing() {
     assert_eq!(set.sphere(17), None);
     // Padding lanes have radius 0.
     assert_eq!(set.chunks()[2].r.to_array()[1..], [0.0; 7]);
+    // A kept view of built chunks, and what it refuses.
+    let view = SphereSet::from_chunks(&big[..3], 17).unwrap();
+    assert_eq!(view.sphere(16), Some(spheres[16]));
+    assert_eq!(
+        SphereSet::from_chunks(&big[..2], 17).unwrap_err(),
+        SphereSetError::StorageTooSmall {
+            needed: 3,
+            provided: 2
+        }
+    );
+    assert_eq!(
+        SphereSet::from_chunks(&big[..3], 16).unwrap_err(),
+        SphereSetError::Padding
+    );
     let empty = SphereSet::build(&[], &mut []).unwrap();
     assert!(empty.is_empty());
     assert_eq!(

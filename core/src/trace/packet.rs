@@ -68,6 +68,9 @@ pub enum SphereSetError {
     },
     /// More spheres than a 32-bit signed lane index can name (`2³¹ − 1`).
     TooManySpheres,
+    /// A padding lane of the last chunk has a radius other than 0, so it
+    /// could be hit.
+    Padding,
 }
 
 /// A read-only view of spheres stored as [`SphereChunk8`]s in
@@ -128,6 +131,43 @@ impl<'a> SphereSet<'a> {
             chunks: storage,
             len: spheres.len(),
         })
+    }
+
+    /// A view of `len` spheres in chunks built earlier (by
+    /// [`SphereSet::build`], then kept, e.g. in a struct that owns its
+    /// storage). Checks what `build` guarantees: exactly
+    /// [`chunks_for`]`(len)` chunks, and radius 0 in every padding lane so
+    /// padding can never be hit.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::{chunks_for, Sphere, SphereChunk8, SphereSet};
+    /// let spheres = [Sphere::new(Vec3::ZERO, 1.0); 3];
+    /// let mut storage = vec![SphereChunk8::EMPTY; chunks_for(3)];
+    /// SphereSet::build(&spheres, &mut storage).unwrap();
+    /// let view = SphereSet::from_chunks(&storage, 3).unwrap();
+    /// assert_eq!(view.sphere(2), Some(spheres[2]));
+    /// assert!(SphereSet::from_chunks(&storage, 2).is_err()); // lane 2 is not padding
+    /// ```
+    #[inline]
+    pub fn from_chunks(chunks: &'a [SphereChunk8], len: usize) -> Result<Self, SphereSetError> {
+        if len > i32::MAX as usize {
+            return Err(SphereSetError::TooManySpheres);
+        }
+        let needed = chunks_for(len);
+        if chunks.len() != needed {
+            return Err(SphereSetError::StorageTooSmall {
+                needed,
+                provided: chunks.len(),
+            });
+        }
+        if let Some(last) = chunks.last() {
+            let used = len - 8 * (needed - 1);
+            if last.r.as_array()[used..].iter().any(|&r| r != 0.0) {
+                return Err(SphereSetError::Padding);
+            }
+        }
+        Ok(SphereSet { chunks, len })
     }
 
     /// The number of spheres.
