@@ -235,8 +235,12 @@ fn storage_sizing() {
             provided: 2
         }
     );
+    let mut corrupt = big[..3].to_vec();
+    let mut r = corrupt[2].r.to_array();
+    r[5] = 1.0;
+    corrupt[2].r = wide::f32x8::new(r);
     assert_eq!(
-        SphereSet::from_chunks(&big[..3], 16).unwrap_err(),
+        SphereSet::from_chunks(&corrupt, 17).unwrap_err(),
         SphereSetError::Padding
     );
     let empty = SphereSet::build(&[], &mut []).unwrap();
