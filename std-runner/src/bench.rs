@@ -9,12 +9,13 @@
 //!   camera rays and incoherent random rays, closest hit and shadow rays;
 //! - **rendering**: camera paths/s and rays/s of `week09` (320 × 180, 32
 //!   spp, depth 5) and `cover` (320 × 180, 8 spp, depth 50) on 1 and 2
-//!   threads; each run includes building the scene and the thread pool, as
-//!   `strata render` does.
+//!   threads, timed by the render itself (tracing only, not building the
+//!   scene's structures or the thread pool), with the CPU seconds per wall
+//!   second of the 2-thread runs, so a busy neighbour shows.
 //!
 //! Method: each comparison's contenders run interleaved, one after the
-//! other, in every repetition: one warm-up repetition, then `repetitions`
-//! timed ones. Each timing repeats its work until it lasts at least
+//! other (forwards, then backwards in the next repetition), in every
+//! repetition: one warm-up repetition, then `repetitions` timed ones. Each timing repeats its work until it lasts at least
 //! `min_time`. A figure is the median over repetitions with its min–max
 //! spread; a ratio (packet/scalar, 2 threads/1 thread) is the median of
 //! the per-repetition ratios, so both sides of a ratio share a repetition's
@@ -125,45 +126,123 @@ pub struct Report {
     pub figures: Vec<Figure>,
     /// Every ratio.
     pub ratios: Vec<Ratio>,
+    /// CPU seconds per wall second of each 2-thread render: below about
+    /// 1.8, another process was using the machine and the scaling figure
+    /// understates what 2 free cores give.
+    pub effective_cores: Vec<(String, f64)>,
+    /// The targets the suite checks.
+    pub goals: Vec<Goal>,
 }
 
-/// A contender: a name, units of work per call, and the work (returning a
-/// checksum so it cannot be optimised away).
+/// One target and whether this run met it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Goal {
+    /// What is compared.
+    pub name: String,
+    /// The target ratio.
+    pub target: f64,
+    /// The median ratio measured.
+    pub measured: f64,
+    /// Whether `measured ≥ target`.
+    pub pass: bool,
+}
+
+/// The suite's targets: every packet path ≥ 6× its scalar path, every
+/// 2-thread render ≥ 1.9× its 1-thread render.
+fn goals(ratios: &[Ratio]) -> Vec<Goal> {
+    ratios
+        .iter()
+        .filter_map(|r| {
+            let target = if r.name.ends_with("packet / scalar") {
+                6.0
+            } else if r.name.ends_with("2 threads / 1 thread") {
+                1.9
+            } else {
+                return None;
+            };
+            Some(Goal {
+                name: r.name.clone(),
+                target,
+                measured: r.ratio.median,
+                pass: r.ratio.median >= target,
+            })
+        })
+        .collect()
+}
+
+/// What one call of a contender's work reports: a checksum (so the work
+/// cannot be optimised away), or the seconds it measured itself (a render
+/// times only its tracing, not building the scene and thread pool).
+enum Done {
+    Checksum(u64),
+    Seconds(f64),
+}
+
+/// A contender: a name, units of work per call, and the work.
 struct Contender<'a> {
     name: String,
     units: f64,
-    work: Box<dyn FnMut() -> u64 + 'a>,
+    work: Box<dyn FnMut() -> Result<Done> + 'a>,
 }
 
-fn contender<'a>(name: &str, units: f64, work: impl FnMut() -> u64 + 'a) -> Contender<'a> {
+fn contender<'a>(name: &str, units: f64, mut work: impl FnMut() -> u64 + 'a) -> Contender<'a> {
     Contender {
         name: name.into(),
         units,
-        work: Box::new(work),
+        work: Box::new(move || Ok(Done::Checksum(work()))),
     }
 }
 
 /// Seconds per call of `work`, repeated until `min_time` has passed.
-fn time(work: &mut dyn FnMut() -> u64, min_time: Duration) -> f64 {
+fn time(work: &mut dyn FnMut() -> Result<Done>, min_time: Duration) -> Result<f64> {
     let start = Instant::now();
-    let mut calls = 0u64;
+    let (mut calls, mut own, mut self_timed) = (0u64, 0.0f64, false);
     while start.elapsed() < min_time || calls == 0 {
-        black_box(work());
+        match work()? {
+            Done::Checksum(c) => {
+                black_box(c);
+            }
+            Done::Seconds(t) => {
+                own += t;
+                self_timed = true;
+            }
+        }
         calls += 1;
     }
-    start.elapsed().as_secs_f64() / calls as f64
+    let total = if self_timed {
+        own
+    } else {
+        start.elapsed().as_secs_f64()
+    };
+    Ok(total / calls as f64)
+}
+
+/// CPU seconds this process has used, all threads (exited ones too), from
+/// `/proc/self/stat` in Linux clock ticks of 1/100 s; `None` elsewhere.
+pub fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    // After the command come the state (field 3), ... utime (14), stime (15).
+    let ticks = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    Some(ticks as f64 / 100.0)
 }
 
 struct Suite<'p> {
     options: Options,
     figures: Vec<Figure>,
     ratios: Vec<Ratio>,
+    effective_cores: Vec<(String, f64)>,
     progress: &'p dyn Fn(&str),
 }
 
 impl Suite<'_> {
     /// Runs the contenders interleaved and records their rates and the
     /// ratio of each to the first (the baseline), when `ratios` is set.
+    ///
+    /// Contenders run in turn, forwards in even repetitions and backwards
+    /// in odd ones, so none always runs first or after the same neighbour.
+    /// Returns each contender's CPU seconds per wall second (effective
+    /// cores) over its timed repetitions, where the OS reports it.
     fn compare(
         &mut self,
         group: &str,
@@ -171,15 +250,26 @@ impl Suite<'_> {
         unit: &str,
         mut cs: Vec<Contender<'_>>,
         ratios: bool,
-    ) {
+    ) -> Result<Vec<Option<f64>>> {
         (self.progress)(comparison);
         let reps = self.options.repetitions;
         let mut rates = vec![Vec::with_capacity(reps); cs.len()];
+        let mut busy = vec![(0.0f64, 0.0f64); cs.len()];
         for rep in 0..=reps {
-            for (k, c) in cs.iter_mut().enumerate() {
-                let secs = time(&mut c.work, self.options.min_time);
+            let order: Vec<usize> = if rep % 2 == 0 {
+                (0..cs.len()).collect()
+            } else {
+                (0..cs.len()).rev().collect()
+            };
+            for k in order {
+                let (cpu0, wall0) = (process_cpu_seconds(), Instant::now());
+                let secs = time(&mut cs[k].work, self.options.min_time)?;
                 if rep > 0 {
-                    rates[k].push(c.units / secs / 1e6);
+                    rates[k].push(cs[k].units / secs / 1e6);
+                    if let (Some(a), Some(b)) = (cpu0, process_cpu_seconds()) {
+                        busy[k].0 += b - a;
+                        busy[k].1 += wall0.elapsed().as_secs_f64();
+                    }
                 }
             }
         }
@@ -203,6 +293,10 @@ impl Suite<'_> {
                 });
             }
         }
+        Ok(busy
+            .iter()
+            .map(|&(cpu, wall)| (wall > 0.0 && cpu > 0.0).then(|| cpu / wall))
+            .collect())
     }
 }
 
@@ -217,27 +311,30 @@ fn checksum(v: Vec3) -> u64 {
     (v.x + v.y + v.z).to_bits() as u64
 }
 
-fn sampling(s: &mut Suite<'_>) {
+fn sampling(s: &mut Suite<'_>) -> Result<()> {
     const N: usize = 1 << 16;
     let us = uniforms(N);
     let cone = Cone::from_cos(0.8);
     let us = &us;
-    let map3 = |f: fn(Vec2) -> Vec3| move || checksum(us.iter().fold(Vec3::ZERO, |a, &u| a + f(u)));
+    // Generic over the mapping so each call inlines, like the cone's.
+    fn map3<'a>(us: &'a [Vec2], f: impl Fn(Vec2) -> Vec3 + 'a) -> impl FnMut() -> u64 + 'a {
+        move || checksum(us.iter().fold(Vec3::ZERO, |a, &u| a + f(u)))
+    }
     let mut cs = vec![
         contender(
             "uniform_sphere",
             N as f64,
-            map3(mapping::sample_uniform_sphere),
+            map3(us, mapping::sample_uniform_sphere),
         ),
         contender(
             "uniform_hemisphere",
             N as f64,
-            map3(mapping::sample_uniform_hemisphere),
+            map3(us, mapping::sample_uniform_hemisphere),
         ),
         contender(
             "cosine_hemisphere",
             N as f64,
-            map3(mapping::sample_cosine_hemisphere),
+            map3(us, mapping::sample_cosine_hemisphere),
         ),
     ];
     cs.push(contender("uniform_cone", N as f64, || {
@@ -255,7 +352,7 @@ fn sampling(s: &mut Suite<'_>) {
             a + mapping::sample_polar_disk(u).extend(0.0)
         }))
     }));
-    s.compare("sampling", "mapping", "samples", cs, false);
+    s.compare("sampling", "mapping", "samples", cs, false)?;
 
     let rng = std::cell::RefCell::new(Pcg32::new(1, STREAM));
     let draw = |f: &dyn Fn(&mut Pcg32) -> Vec3| {
@@ -279,7 +376,7 @@ fn sampling(s: &mut Suite<'_>) {
             }),
         ],
         true,
-    );
+    )?;
     s.compare(
         "sampling",
         "sphere",
@@ -293,7 +390,7 @@ fn sampling(s: &mut Suite<'_>) {
             }),
         ],
         true,
-    );
+    )?;
     s.compare(
         "sampling",
         "cosine_hemisphere",
@@ -307,7 +404,22 @@ fn sampling(s: &mut Suite<'_>) {
             }),
         ],
         true,
-    );
+    )?;
+
+    s.compare(
+        "sampling",
+        "uniform_hemisphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_uniform_hemisphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_uniform_hemisphere(r))
+            }),
+        ],
+        true,
+    )?;
 
     const SPP: u32 = 16;
     let units = (16 * 16 * SPP) as f64;
@@ -330,15 +442,15 @@ fn sampling(s: &mut Suite<'_>) {
             }),
         ],
         true,
-    );
+    )?;
+    Ok(())
 }
 
-fn intersection(s: &mut Suite<'_>) {
+fn intersection(s: &mut Suite<'_>) -> Result<()> {
     for w in trace_workloads() {
         let mut storage = vec![SphereChunk8::EMPTY; chunks_for(w.spheres.len())];
-        let Ok(set) = SphereSet::build(&w.spheres, &mut storage) else {
-            continue;
-        };
+        let set =
+            SphereSet::build(&w.spheres, &mut storage).map_err(|e| anyhow::anyhow!("{e:?}"))?;
         let spheres = &w.spheres;
         let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
         let n = w.rays.len() as f64;
@@ -373,7 +485,7 @@ fn intersection(s: &mut Suite<'_>) {
                 }),
             ],
             true,
-        );
+        )?;
         let shadows = shadow_rays(spheres, rays, w.light);
         let shadow_packets: Vec<RayPacket8> =
             shadows.chunks(8).map(RayPacket8::from_rays).collect();
@@ -398,7 +510,7 @@ fn intersection(s: &mut Suite<'_>) {
                 }),
             ],
             true,
-        );
+        )?;
         // Closest-hit rays test every sphere: tests/s = rays/s × spheres.
         for f in &mut s.figures[first..first + 3] {
             f.extra.push((
@@ -407,13 +519,12 @@ fn intersection(s: &mut Suite<'_>) {
             ));
         }
     }
+    Ok(())
 }
 
 fn rendering(s: &mut Suite<'_>) -> Result<()> {
     for (name, spp, depth) in [("week09", 32u32, 5u32), ("cover", 8, 50)] {
-        let Some(scene) = built_in(name) else {
-            continue;
-        };
+        let scene = built_in(name).ok_or_else(|| anyhow::anyhow!("no built-in scene `{name}`"))?;
         let job = |threads| Job {
             scene: &scene,
             width: 320,
@@ -431,20 +542,32 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
         let paths = probe.stats.paths as f64;
         let rays_per_path = (probe.stats.rays + probe.stats.shadow_rays) as f64 / paths;
         let first = s.figures.len();
-        let render = |threads: usize| {
+        // Timed by the render itself: the tracing, without building the
+        // scene's core structures and the thread pool.
+        let render = |threads: usize| -> Contender<'_> {
             let j = job(threads);
-            move || run(&j, &|_| {}).map_or(0, |r| r.stats.rays)
+            let name = if threads == 1 {
+                "1 thread"
+            } else {
+                "2 threads"
+            };
+            Contender {
+                name: name.into(),
+                units: paths,
+                work: Box::new(move || Ok(Done::Seconds(run(&j, &|_| {})?.wall.as_secs_f64()))),
+            }
         };
-        s.compare(
+        let cores = s.compare(
             "rendering",
             &format!("render/{name}"),
             "camera paths",
-            vec![
-                contender("1 thread", paths, render(1)),
-                contender("2 threads", paths, render(2)),
-            ],
+            vec![render(1), render(2)],
             true,
-        );
+        )?;
+        if let Some(c) = cores[1] {
+            s.effective_cores
+                .push((format!("render/{name} 2 threads"), c));
+        }
         for f in &mut s.figures[first..] {
             f.extra
                 .push(("M rays/s".into(), f.mega_per_s.median * rays_per_path));
@@ -472,11 +595,13 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
         options,
         figures: vec![],
         ratios: vec![],
+        effective_cores: vec![],
         progress,
     };
-    sampling(&mut s);
-    intersection(&mut s);
+    sampling(&mut s)?;
+    intersection(&mut s)?;
     rendering(&mut s)?;
+    let goals = goals(&s.ratios);
     Ok(Report {
         version: env!("CARGO_PKG_VERSION").into(),
         simd: strata::trace::simd_level().name().into(),
@@ -485,13 +610,16 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
         repetitions: options.repetitions,
         figures: s.figures,
         ratios: s.ratios,
+        effective_cores: s.effective_cores,
+        goals,
     })
 }
 
 /// The number of comparisons the suite runs (for a progress bar).
-pub const COMPARISONS: u64 = 5 + 8 + 2;
+pub const COMPARISONS: u64 = 6 + 8 + 2;
 
-/// The report as an aligned text table.
+/// The report as an aligned text table, with the goals and a warning when
+/// the 2-thread renders did not get two free cores.
 pub fn table(r: &Report) -> String {
     let mut out = format!(
         "strata {} bench — {} ({} CPUs), simd {}, median of {} (min–max)\n",
@@ -520,12 +648,41 @@ pub fn table(r: &Report) -> String {
             q.name, q.ratio.median, q.ratio.min, q.ratio.max
         );
     }
+    out += "\ngoals\n";
+    for g in &r.goals {
+        let verdict = if g.pass { "PASS" } else { "FAIL" };
+        out += &format!(
+            "  {verdict}  {:<52} {:6.2}x  (target {:.1}x)\n",
+            g.name, g.measured, g.target
+        );
+    }
+    for (name, c) in &r.effective_cores {
+        let note = if *c < 1.8 {
+            "  (another process was using the CPUs)"
+        } else {
+            ""
+        };
+        out += &format!("  {name}: {c:.2} effective cores{note}\n");
+    }
     out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cpu_seconds_grow_with_work() {
+        if let Some(a) = process_cpu_seconds() {
+            let t = Instant::now();
+            let mut x = 0u64;
+            while t.elapsed() < Duration::from_millis(300) {
+                x = black_box(x.wrapping_add(1));
+            }
+            let b = process_cpu_seconds().unwrap();
+            assert!(b - a > 0.15, "{a} -> {b}");
+        }
+    }
 
     #[test]
     fn stat_median_and_spread() {
@@ -567,5 +724,16 @@ mod tests {
         let json = serde_json::to_string(&r).unwrap();
         assert!(json.contains("\"simd\""));
         assert!(table(&r).contains("ratios"));
+        assert!(
+            r.goals
+                .iter()
+                .any(|g| g.name == "closest/cover_camera packet / scalar" && g.target == 6.0)
+        );
+        assert!(
+            r.goals
+                .iter()
+                .any(|g| g.name == "render/week09 2 threads / 1 thread" && g.target == 1.9)
+        );
+        assert!(table(&r).contains("goals"));
     }
 }

@@ -2,14 +2,14 @@
 //! are checked before any work starts; a bad one exits non-zero with one
 //! clear line and writes nothing.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, value_parser};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::image_io::{Transfer, check_output, say, write_image};
+use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic, write_image};
 use crate::render::{Job, SamplerKind, run};
 use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
 use crate::scenes::{BUILT_IN, SceneData, built_in};
@@ -60,11 +60,15 @@ pub struct BenchArgs {
 /// Runs `strata bench`.
 pub fn bench(args: &BenchArgs) -> Result<()> {
     if let Some(path) = &args.json {
-        if path.extension().is_none_or(|e| e != "json") {
+        if path
+            .extension()
+            .is_none_or(|e| !e.eq_ignore_ascii_case("json"))
+        {
             bail!("--json `{}` must end in .json", path.display());
         }
-        std::fs::write(path, b"").with_context(|| format!("cannot write `{}`", path.display()))?;
-        std::fs::remove_file(path).ok();
+        // Probe the directory with a file of our own: an existing report is
+        // left alone until the new one replaces it.
+        check_writable_dir(path)?;
     }
     let options = crate::bench::Options {
         repetitions: args.repetitions as usize,
@@ -85,12 +89,18 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         bar.inc(1);
     })?;
     bar.finish_and_clear();
-    say(crate::bench::table(&report).trim_end());
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&report)?;
-        std::fs::write(path, text).with_context(|| format!("writing `{}`", path.display()))?;
+        write_atomic(path, |tmp| Ok(std::fs::write(tmp, &text)?))
+            .with_context(|| format!("writing `{}`", path.display()))?;
     }
-    Ok(())
+    // The table is the result here: a full disk is an error, a reader
+    // that went away (a closed pipe) is not.
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{}", crate::bench::table(&report).trim_end()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("writing the table"),
+        _ => Ok(()),
+    }
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {

@@ -61,6 +61,13 @@ pub fn check_output(path: &Path) -> Result<()> {
         Some("png" | "exr") => {}
         _ => bail!("output `{}` must end in .png or .exr", path.display()),
     }
+    check_writable_dir(path)
+}
+
+/// Whether a file can be created beside `path` (and `path` is not a
+/// directory), by creating and removing a temporary file there; `path`
+/// itself is not touched.
+pub fn check_writable_dir(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("output `{}` is a directory", path.display());
     }
@@ -86,7 +93,7 @@ fn temp_path(path: &Path) -> PathBuf {
 
 /// Writes through `write` into a temporary file and renames it to `path`;
 /// on any error the temporary file is removed and `path` is untouched.
-fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let tmp = temp_path(path);
     let result = write(&tmp).and_then(|()| {
         std::fs::rename(&tmp, path)

@@ -474,6 +474,10 @@ fn bench_writes_a_table_and_json() {
         "{out}"
     );
     assert!(out.contains("render/week09 2 threads / 1 thread"), "{out}");
+    assert!(
+        out.contains("goals") && (out.contains("PASS") || out.contains("FAIL")),
+        "{out}"
+    );
     let json = String::from_utf8(bytes(&dir.path().join("b.json"))).unwrap();
     for key in [
         "\"simd\"",
@@ -484,6 +488,26 @@ fn bench_writes_a_table_and_json() {
     ] {
         assert!(json.contains(key), "{key} missing");
     }
+    // A failed run leaves an existing report alone.
+    let before = bytes(&dir.path().join("b.json"));
+    let e = refused(
+        dir.path(),
+        &["bench", "--json", "b.json", "--repetitions", "0"],
+    );
+    assert!(e.contains("--repetitions"), "{e}");
+    assert_eq!(bytes(&dir.path().join("b.json")), before);
+    ok(
+        dir.path(),
+        &[
+            "bench",
+            "--repetitions",
+            "1",
+            "--min-time-ms",
+            "1",
+            "--json",
+            "B.JSON",
+        ],
+    );
     let e = refused(dir.path(), &["bench", "--json", "b.txt"]);
     assert!(e.contains(".json"), "{e}");
     let e = refused(dir.path(), &["bench", "--json", "no/such/dir/b.json"]);
