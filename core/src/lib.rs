@@ -30,6 +30,7 @@
 //! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone; [`mapping::rejection`] keeps the course's methods |
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
 //! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
+//! | [`render`] | camera, textures, materials, sphere lights, the exact film, the path tracer and [`render::render_tile`] |
 //!
 //! ## Example
 //!
