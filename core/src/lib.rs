@@ -54,6 +54,35 @@
 //! assert!((pdf - world.dot(normal).max(0.0) / core::f32::consts::PI).abs() < 1e-5);
 //! ```
 //!
+//! And one pixel rendered, a white diffuse sphere under a sky of radiance
+//! 1 (a white furnace), into nothing but stack storage:
+//!
+//! ```
+//! use glam::{UVec2, Vec3};
+//! use strata::render::*;
+//! use strata::trace::{Sphere, SphereChunk8, SphereSet};
+//! use strata::Independent;
+//!
+//! let spheres = [Sphere::new(Vec3::ZERO, 1.0)];
+//! let mut chunks = [SphereChunk8::EMPTY; 1];
+//! let set = SphereSet::build(&spheres, &mut chunks).unwrap();
+//! let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) }];
+//! let scene = Scene::new(&spheres, set, &materials, &[0], &[], Background::Flat(Vec3::ONE)).unwrap();
+//! let camera = Camera::new(
+//!     &CameraDesc {
+//!         look_from: Vec3::new(0.0, 0.0, 4.0), look_at: Vec3::ZERO, up: Vec3::Y,
+//!         vfov_deg: 40.0, defocus_angle_deg: 0.0, focus_dist: 4.0,
+//!     },
+//!     16, 16,
+//! ).unwrap();
+//! let settings = RenderSettings { max_depth: 8, direct_lighting: true };
+//! let tile = Tile { x0: 8, y0: 8, width: 1, height: 1 };
+//! let mut film = [PixelSum::ZERO; 1];
+//! render_tile(&scene, &camera, &Independent::new(16, 1).unwrap(), &settings, tile, 0..16, &mut film).unwrap();
+//! assert_eq!(film[0].samples, 16);
+//! assert!((film[0].mean() - Vec3::ONE).abs().max_element() < 1e-5);
+//! ```
+//!
 //! ## Limitations
 //!
 //! - `f32` only.
