@@ -179,3 +179,71 @@ fn passes_reshuffle_the_strata() {
     let frac = same as f64 / total as f64;
     assert!((frac - 1.0 / 16.0).abs() < 0.015, "{frac}");
 }
+
+/// Owen-scrambled Sobol': the first 2^k samples of a pixel put exactly one
+/// point in every elementary interval of area 2^-k — every shape
+/// 2^-a × 2^-b with a + b = k — in the pixel position and in the first
+/// pair of every later group of four dimensions (the (0, 2)-sequence
+/// property, kept by the scrambling).
+#[test]
+fn sobol_first_pairs_are_nets() {
+    use strata::Sobol;
+    for seed in [0u64, 7, 0xfeed] {
+        for pixel in PIXELS {
+            for k in 1..=10u32 {
+                let n = 1u32 << k;
+                let mut s = Sobol::new(n, seed).unwrap();
+                // Points of the pixel pair and of dimensions (4, 5), (8, 9).
+                let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); 3];
+                for i in 0..n {
+                    s.start_pixel_sample(pixel, i);
+                    sets[0].push(s.pixel_2d());
+                    let _lens = s.next_2d(); // dimensions 2, 3
+                    sets[1].push(s.next_2d()); // 4, 5
+                    let _ = (s.next_1d(), s.next_1d()); // 6, 7
+                    sets[2].push(s.next_2d()); // 8, 9
+                }
+                for (which, pts) in sets.iter().enumerate() {
+                    for a in 0..=k {
+                        let (nx, ny) = (1u32 << a, 1u32 << (k - a));
+                        let mut cells = vec![0u32; n as usize];
+                        for p in pts {
+                            let cx = (p.x as f64 * nx as f64) as u32;
+                            let cy = (p.y as f64 * ny as f64) as u32;
+                            cells[(cy * nx + cx) as usize] += 1;
+                        }
+                        assert!(
+                            cells.iter().all(|&c| c == 1),
+                            "seed {seed} pixel {pixel} k {k} set {which}: {nx}x{ny} intervals {cells:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Every Sobol' dimension alone stratifies: 2^k samples, 2^k strata, one
+/// each, for the first 40 dimensions.
+#[test]
+fn sobol_every_dimension_is_stratified() {
+    use strata::Sobol;
+    for k in [2u32, 5, 8] {
+        let n = 1u32 << k;
+        let mut s = Sobol::new(n, 3).unwrap();
+        let mut counts = vec![vec![0u32; n as usize]; 40];
+        for i in 0..n {
+            s.start_pixel_sample(UVec2::new(3, 8), i);
+            for c in counts.iter_mut() {
+                c[(s.next_1d() as f64 * n as f64) as usize] += 1;
+            }
+        }
+        for (d, c) in counts.iter().enumerate() {
+            assert!(
+                c.iter().all(|&x| x == 1),
+                "k {k} dimension {}: {c:?}",
+                d + 2
+            );
+        }
+    }
+}

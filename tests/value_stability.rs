@@ -122,6 +122,12 @@ fn sampler_lock() {
         stratified,
         "{CHANGED}"
     );
+    let sobol = [0x3e74e798, 0x3cbf9640, 0x3f5840f8, 0x3e62b38c, 0x3f2fba15];
+    assert_eq!(
+        first_values(&mut strata::Sobol::new(16, 2026).unwrap()),
+        sobol,
+        "{CHANGED}"
+    );
 }
 
 /// FNV-1a over 32-bit words.

@@ -24,6 +24,7 @@
 //! | [`Independent`] | uniform random | uniform random |
 //! | [`UniformGrid`] | centres of an `nx × ny` grid, raster order | centres of `spp` strata, shuffled |
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
+//! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', groups of 4 |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
 //! ([`grid_dims`]): 16 → 4 × 4, 30 → 6 × 5, 12 → 4 × 3, 7 → 7 × 1. A prime
@@ -46,6 +47,8 @@ use glam::{UVec2, Vec2};
 use rand_core::Rng;
 
 use crate::rng::{Pcg32, mix64, pixel_hash, pixel_sample_rng, u32_to_unit_f32};
+
+mod sobol;
 
 /// The interface every sampler kind implements; generic code calls it with
 /// static dispatch.
@@ -492,6 +495,112 @@ impl Sampler for Stratified {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         self.0.next_2d()
+    }
+}
+
+/// Keys of the Sobol' index shuffles and output scrambles, apart from
+/// each other and from stream states.
+const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
+const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
+
+/// Owen-scrambled Sobol' samples (Burley 2020), padded in groups of four
+/// dimensions; see the `sobol` module for the construction and its
+/// guarantees. Best with a power-of-two spp: the first `2^k` samples of a
+/// pixel are a `(0, k, 2)`-net in the pixel position and stratify every
+/// dimension into `2^k` equal strata.
+///
+/// `next_2d` starts on an even dimension (skipping one if needed), so a 2D
+/// pair never straddles two groups and keeps its joint stratification.
+///
+/// ```
+/// use glam::UVec2;
+/// use strata::sampler::{Sampler, Sobol};
+/// // 16 samples: one in each of 4 × 4 cells of the pixel, and one in
+/// // each 16th of every other dimension.
+/// let mut s = Sobol::new(16, 3).unwrap();
+/// let (mut cells, mut strata) = ([0; 16], [0; 16]);
+/// for i in 0..16 {
+///     s.start_pixel_sample(UVec2::new(5, 9), i);
+///     let p = s.pixel_2d();
+///     cells[(p.y * 4.0) as usize * 4 + (p.x * 4.0) as usize] += 1;
+///     strata[(s.next_1d() * 16.0) as usize] += 1;
+/// }
+/// assert_eq!((cells, strata), ([1; 16], [1; 16]));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Sobol {
+    spp: u32,
+    seed: u64,
+    pixel_key: u64,
+    index: u32,
+    dimension: u32,
+    pixel: Vec2,
+}
+
+impl Sobol {
+    /// A Sobol' sampler; `None` if `spp` is 0.
+    #[inline]
+    #[must_use]
+    pub fn new(spp: u32, seed: u64) -> Option<Self> {
+        if spp == 0 {
+            return None;
+        }
+        let mut s = Self {
+            spp,
+            seed,
+            pixel_key: 0,
+            index: 0,
+            dimension: 2,
+            pixel: Vec2::ZERO,
+        };
+        s.start_pixel_sample(UVec2::ZERO, 0);
+        Some(s)
+    }
+
+    /// Dimension `d` of the current sample.
+    #[inline]
+    fn value(&self, d: u32) -> f32 {
+        let group = (mix64(self.pixel_key ^ SOBOL_GROUP_SALT ^ (d / 4) as u64) >> 32) as u32;
+        let index = sobol::nested_uniform_scramble(self.index, group);
+        let key = (mix64(self.pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
+        u32_to_unit_f32(sobol::nested_uniform_scramble(
+            sobol::sobol(index, (d % 4) as usize),
+            key,
+        ))
+    }
+}
+
+impl Sampler for Sobol {
+    #[inline]
+    fn samples_per_pixel(&self) -> u32 {
+        self.spp
+    }
+
+    #[inline]
+    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        self.pixel_key = pixel_hash(self.seed, pixel);
+        self.index = index;
+        self.dimension = 2;
+        self.pixel = Vec2::new(self.value(0), self.value(1));
+    }
+
+    #[inline]
+    fn pixel_2d(&mut self) -> Vec2 {
+        self.pixel
+    }
+
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(1);
+        self.value(d)
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
+        Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
     }
 }
 

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow};
 use rayon::prelude::*;
 use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile};
-use strata::{Independent, Sampler, Stratified, UniformGrid};
+use strata::{Independent, Sampler, Sobol, Stratified, UniformGrid};
 
 use crate::scenes::SceneData;
 
@@ -23,6 +23,8 @@ pub enum SamplerKind {
     Grid,
     /// Jittered strata for any spp (the course's `render_jittered`, fixed).
     Stratified,
+    /// Owen-scrambled Sobol' (best with a power-of-two spp).
+    Sobol,
 }
 
 impl SamplerKind {
@@ -32,6 +34,7 @@ impl SamplerKind {
             SamplerKind::Independent => "independent",
             SamplerKind::Grid => "grid",
             SamplerKind::Stratified => "stratified",
+            SamplerKind::Sobol => "sobol",
         }
     }
 }
@@ -128,6 +131,14 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
                 &camera,
                 &settings,
                 Stratified::new(job.spp, job.seed),
+                progress,
+            ),
+            SamplerKind::Sobol => render_all(
+                job,
+                scene,
+                &camera,
+                &settings,
+                Sobol::new(job.spp, job.seed),
                 progress,
             ),
         })

@@ -99,6 +99,19 @@ fn threads_tiles_and_runs_give_identical_files() {
     );
     assert_eq!(run("again.png", &["--threads", "1"]), one, "a second run");
     assert_ne!(run("seed.png", &["--seed", "1"]), one, "another seed");
+    // Sobol' too is independent of threads and tiles.
+    let sobol = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", "--scene", "showcase", "--width", "96", "--spp", "4",
+        ];
+        args.extend_from_slice(&["--sampler", "sobol", "-o", name]);
+        args.extend_from_slice(extra);
+        ok(dir.path(), &args);
+        bytes(&dir.path().join(name))
+    };
+    let s1 = sobol("s1.png", &["--threads", "1"]);
+    assert_eq!(sobol("s2.png", &["--threads", "2", "--tile", "9"]), s1);
+    assert_ne!(s1, one);
     // EXR too.
     let a = run("a.exr", &["--threads", "1"]);
     assert_eq!(run("b.exr", &["--threads", "2", "--tile", "5"]), a);
@@ -429,7 +442,7 @@ fn bad_flags_are_refused_before_work() {
         (vec!["render", "--aspect", "-2"], "--aspect"),
         (vec!["render", "--aspect", "nan"], "--aspect"),
         (vec!["render", "--height", "9", "--aspect", "2"], "--aspect"),
-        (vec!["render", "--sampler", "sobol"], "--sampler"),
+        (vec!["render", "--sampler", "bogus"], "--sampler"),
         (
             vec!["render", "--scene", "nonesuch"],
             "unknown scene `nonesuch`",
