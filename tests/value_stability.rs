@@ -317,7 +317,11 @@ fn render_lock() {
         got.push(film(name, UniformGrid::new(4, 5).unwrap()));
         got.push(film(name, Stratified::new(4, 5).unwrap()));
     }
-    let lock: [u64; 9] = [
+    // Sobol' renders, appended so the earlier entries keep their places.
+    for name in BUILT_IN {
+        got.push(film(name, strata::Sobol::new(4, 5).unwrap()));
+    }
+    let lock: [u64; 12] = [
         0xa3b1b2bcd3e21f77,
         0xce8d68df935a9439,
         0x4f28f547359e6b5b,
@@ -327,6 +331,9 @@ fn render_lock() {
         0xef9e80853e86fd92,
         0x7fa9bbbe2ce4aea2,
         0x39144b2cc4deda66,
+        0x708d203c396a882e,
+        0x8a8083266adee828,
+        0x690c5c1f8806cbcf,
     ];
     assert_eq!(got, lock, "renders changed: {got:#018x?}\n{CHANGED}");
 }
