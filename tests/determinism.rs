@@ -14,7 +14,7 @@ mod support;
 use glam::{UVec2, Vec2};
 use rand_core::Rng;
 use strata::rng::{Pcg32, STREAM};
-use strata::sampler::{Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
 use support::chi2::{Chi2, Domain};
 
 /// Every value one sample produces, as bits: pixel 2D, then a fixed
@@ -98,6 +98,11 @@ fn stratified_values_do_not_depend_on_order() {
 }
 
 #[test]
+fn halton_values_do_not_depend_on_order() {
+    check_order_independence(Halton::new(6, 42).unwrap(), "halton");
+}
+
+#[test]
 fn sobol_values_do_not_depend_on_order() {
     check_order_independence(Sobol::new(8, 42).unwrap(), "sobol");
 }
@@ -121,7 +126,7 @@ fn seeds_change_every_kind() {
     assert_ne!(ga, gb);
 }
 
-const PAIR_TESTS: usize = 9;
+const PAIR_TESTS: usize = 10;
 const PAIRS: usize = 1_000_000;
 
 /// χ² of `PAIRS` value pairs on the unit square against the uniform
@@ -277,6 +282,21 @@ fn stream_states_use_every_input_bit() {
 fn sobol_neighbour_pixels_are_independent() {
     let mut s = Sobol::new(16, 7).unwrap();
     check_pairs("pairs_sobol_pixel_x", |k| {
+        let i = (k % 16) as u32;
+        let p = pixel(k / 16);
+        s.start_pixel_sample(p, i);
+        let a = s.next_1d();
+        s.start_pixel_sample(p + UVec2::X, i);
+        Vec2::new(a, s.next_1d())
+    });
+}
+
+/// Halton samples of neighbouring pixels use independent digit scrambles
+/// (without them every pixel would repeat one sequence).
+#[test]
+fn halton_neighbour_pixels_are_independent() {
+    let mut s = Halton::new(16, 7).unwrap();
+    check_pairs("pairs_halton_pixel_x", |k| {
         let i = (k % 16) as u32;
         let p = pixel(k / 16);
         s.start_pixel_sample(p, i);

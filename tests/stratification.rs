@@ -247,3 +247,52 @@ fn sobol_every_dimension_is_stratified() {
         }
     }
 }
+
+/// Owen-scrambled Halton: with 2^a · 3^b samples the pixel positions fill
+/// a 2^a × 3^b grid once each; every dimension alone fills b^k strata of
+/// its base once each; and a second run of indices is a fresh set.
+#[test]
+fn halton_is_stratified_in_its_bases() {
+    use strata::Halton;
+    for seed in [0u64, 9] {
+        for pixel in PIXELS {
+            for (a, b) in [(1u32, 1u32), (2, 1), (3, 2), (4, 2), (2, 3), (5, 3)] {
+                let (nx, ny) = (1u32 << a, 3u32.pow(b));
+                let n = nx * ny;
+                let mut s = Halton::new(n, seed).unwrap();
+                let mut cells = vec![0u32; n as usize];
+                for i in 0..n {
+                    s.start_pixel_sample(pixel, i);
+                    let p = s.pixel_2d();
+                    let cx = (p.x as f64 * nx as f64) as u32;
+                    let cy = (p.y as f64 * ny as f64) as u32;
+                    cells[(cy * nx + cx) as usize] += 1;
+                }
+                assert!(
+                    cells.iter().all(|&c| c == 1),
+                    "seed {seed} {pixel} {nx}x{ny}: {cells:?}"
+                );
+            }
+        }
+    }
+    // Dimensions 2.. use bases 5, 7, 11, ...: b^k samples fill b^k strata.
+    let bases = [5u32, 7, 11, 13, 17, 19];
+    for (d, &base) in bases.iter().enumerate() {
+        for k in 1..=2u32 {
+            let n = base.pow(k);
+            let mut s = Halton::new(n, 4).unwrap();
+            let mut counts = vec![0u32; n as usize];
+            for i in 0..n {
+                s.start_pixel_sample(UVec2::new(7, 1), i);
+                for _ in 0..d {
+                    let _ = s.next_1d();
+                }
+                counts[(s.next_1d() as f64 * n as f64) as usize] += 1;
+            }
+            assert!(
+                counts.iter().all(|&c| c == 1),
+                "base {base} k {k}: {counts:?}"
+            );
+        }
+    }
+}

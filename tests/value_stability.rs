@@ -128,6 +128,12 @@ fn sampler_lock() {
         sobol,
         "{CHANGED}"
     );
+    let halton = [0x3e8c4816, 0x3f4e92a0, 0x3e05b67d, 0x3f470dad, 0x3f31484e];
+    assert_eq!(
+        first_values(&mut strata::Halton::new(16, 2026).unwrap()),
+        halton,
+        "{CHANGED}"
+    );
 }
 
 /// FNV-1a over 32-bit words.

@@ -26,7 +26,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`rng`] | per-sample stream derivation, `u32 → f32` in `[0, 1)` |
-//! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`], [`Sobol`] |
+//! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`], [`Sobol`], [`Halton`] |
 //! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone; [`mapping::rejection`] keeps the course's methods |
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
 //! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
@@ -112,4 +112,4 @@ pub mod sampler;
 pub mod trace;
 
 pub use onb::Onb;
-pub use sampler::{Independent, Sampler, Sobol, Stratified, UniformGrid};
+pub use sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};

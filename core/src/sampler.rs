@@ -25,6 +25,7 @@
 //! | [`UniformGrid`] | centres of an `nx × ny` grid, raster order | centres of `spp` strata, shuffled |
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
 //! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', groups of 4 |
+//! | [`Halton`] | Owen-scrambled Halton, bases 2 and 3 | Owen-scrambled Halton, the next prime bases |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
 //! ([`grid_dims`]): 16 → 4 × 4, 30 → 6 × 5, 12 → 4 × 3, 7 → 7 × 1. A prime
@@ -599,6 +600,152 @@ impl Sampler for Sobol {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
+        Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
+    }
+}
+
+/// The first 64 primes: the Halton bases of dimensions 0–63.
+const PRIMES: [u32; 64] = [
+    2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89, 97,
+    101, 103, 107, 109, 113, 127, 131, 137, 139, 149, 151, 157, 163, 167, 173, 179, 181, 191, 193,
+    197, 199, 211, 223, 227, 229, 233, 239, 241, 251, 257, 263, 269, 271, 277, 281, 283, 293, 307,
+    311,
+];
+
+/// Keys of the Halton digit scrambles, apart from other keys.
+const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
+
+/// Owen-scrambled Halton samples: dimension `d` is the radical inverse of
+/// the sample index in the `d`-th prime base (2, 3, 5, 7, … for the first
+/// 64 dimensions; beyond that the bases repeat with independent
+/// scrambles), each digit passed through a random permutation that
+/// depends on the digits before it (a nested, Owen scramble) and on
+/// `(seed, pixel, d)`. Digits are scrambled down to `2⁻²⁵`, so the value
+/// uses the full precision of an `f32`.
+///
+/// With `2^a · 3^b` samples the pixel positions fill a `2^a × 3^b` grid
+/// exactly once; every dimension alone is stratified in its base. Works
+/// for any spp; best with products of small primes.
+///
+/// ```
+/// use glam::UVec2;
+/// use strata::sampler::{Halton, Sampler};
+/// // 6 samples: one in each cell of a 2 × 3 grid of the pixel.
+/// let mut s = Halton::new(6, 1).unwrap();
+/// let mut cells = [0; 6];
+/// for i in 0..6 {
+///     s.start_pixel_sample(UVec2::new(4, 2), i);
+///     let p = s.pixel_2d();
+///     cells[(p.y * 3.0) as usize * 2 + (p.x * 2.0) as usize] += 1;
+/// }
+/// assert_eq!(cells, [1; 6]);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Halton {
+    spp: u32,
+    seed: u64,
+    pixel_key: u64,
+    index: u32,
+    dimension: u32,
+    pixel: Vec2,
+}
+
+impl Halton {
+    /// A Halton sampler; `None` if `spp` is 0.
+    #[inline]
+    #[must_use]
+    pub fn new(spp: u32, seed: u64) -> Option<Self> {
+        if spp == 0 {
+            return None;
+        }
+        let mut s = Self {
+            spp,
+            seed,
+            pixel_key: 0,
+            index: 0,
+            dimension: 2,
+            pixel: Vec2::ZERO,
+        };
+        s.start_pixel_sample(UVec2::ZERO, 0);
+        Some(s)
+    }
+
+    /// Dimension `d` of the current sample: the Owen-scrambled radical
+    /// inverse of the index in base `PRIMES[d % 64]`.
+    fn value(&self, d: u32) -> f32 {
+        let base = PRIMES[(d % 64) as usize];
+        let inv = 1.0 / base as f64;
+        let mut key = mix64(self.pixel_key ^ HALTON_SALT ^ d as u64);
+        let (mut i, mut scale, mut v) = (self.index, inv, 0.0f64);
+        // The integer formed by the first `levels` scrambled digits, where
+        // base^levels ≤ 2^24: the f32 result must stay in that interval.
+        let (mut levels, mut cells) = (0u32, 1u64);
+        while cells * base as u64 <= 1 << 24 {
+            cells *= base as u64;
+            levels += 1;
+        }
+        let (mut prefix, mut k) = (0u64, 0u32);
+        // Digits of the index, then scrambled zeros, down to 2^-25.
+        while scale > 1.0 / 33_554_432.0 {
+            let digit = i % base;
+            i /= base;
+            let permuted = permute(digit, base, (key >> 32) as u32);
+            v += permuted as f64 * scale;
+            if k < levels {
+                prefix = prefix * base as u64 + permuted as u64;
+            }
+            k += 1;
+            // The next digit's permutation depends on this one: nested.
+            key = mix64(key ^ (digit as u64 + 1));
+            scale *= inv;
+        }
+        // Rounding to f32 may cross a cell boundary by an ulp: step back in.
+        // f · cells is exact in f64 (24 + 24 bits).
+        let mut f = (v as f32).min(crate::rng::ONE_MINUS_EPSILON);
+        for _ in 0..4 {
+            let cell = (f as f64 * cells as f64) as u64; // ≥ 0: truncation floors
+            if cell > prefix {
+                f = f32::from_bits(f.to_bits() - 1);
+            } else if cell < prefix {
+                f = f32::from_bits(f.to_bits() + 1);
+            } else {
+                break;
+            }
+        }
+        f
+    }
+}
+
+impl Sampler for Halton {
+    #[inline]
+    fn samples_per_pixel(&self) -> u32 {
+        self.spp
+    }
+
+    #[inline]
+    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        self.pixel_key = pixel_hash(self.seed, pixel);
+        self.index = index;
+        self.dimension = 2;
+        self.pixel = Vec2::new(self.value(0), self.value(1));
+    }
+
+    #[inline]
+    fn pixel_2d(&mut self) -> Vec2 {
+        self.pixel
+    }
+
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(1);
+        self.value(d)
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        let d = self.dimension;
         self.dimension = d.wrapping_add(2);
         Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
     }

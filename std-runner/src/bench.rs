@@ -30,7 +30,7 @@ use serde::Serialize;
 use strata::mapping::{self, Cone, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
-use strata::{Independent, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sobol, Stratified, UniformGrid};
 
 use crate::render::{Job, SamplerKind, run};
 use crate::scenes::built_in;
@@ -427,6 +427,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
     let mut grid = UniformGrid::new(SPP, 1).expect("spp > 0");
     let mut st = Stratified::new(SPP, 1).expect("spp > 0");
     let mut sob = Sobol::new(SPP, 1).expect("spp > 0");
+    let mut hal = Halton::new(SPP, 1).expect("spp > 0");
     s.compare(
         "sampling",
         "sampler",
@@ -443,6 +444,9 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
             }),
             contender("sobol", units, || {
                 sampler_pattern(&mut sob, SPP).to_bits() as u64
+            }),
+            contender("halton", units, || {
+                sampler_pattern(&mut hal, SPP).to_bits() as u64
             }),
         ],
         true,

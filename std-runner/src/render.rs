@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow};
 use rayon::prelude::*;
 use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile};
-use strata::{Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
 
 use crate::scenes::SceneData;
 
@@ -25,6 +25,8 @@ pub enum SamplerKind {
     Stratified,
     /// Owen-scrambled Sobol' (best with a power-of-two spp).
     Sobol,
+    /// Owen-scrambled Halton (best with spp = 2^a 3^b).
+    Halton,
 }
 
 impl SamplerKind {
@@ -35,6 +37,7 @@ impl SamplerKind {
             SamplerKind::Grid => "grid",
             SamplerKind::Stratified => "stratified",
             SamplerKind::Sobol => "sobol",
+            SamplerKind::Halton => "halton",
         }
     }
 }
@@ -139,6 +142,14 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
                 &camera,
                 &settings,
                 Sobol::new(job.spp, job.seed),
+                progress,
+            ),
+            SamplerKind::Halton => render_all(
+                job,
+                scene,
+                &camera,
+                &settings,
+                Halton::new(job.spp, job.seed),
                 progress,
             ),
         })
