@@ -499,6 +499,54 @@ impl Sampler for Stratified {
     }
 }
 
+/// The `Sampler` impl shared by the hashed low-discrepancy samplers: all
+/// state is `(pixel key, index, dimension)`, and each dimension's value
+/// comes from the type's `value(d)`. `align_2d` starts 2D draws on an even
+/// dimension (Sobol' pairs must not straddle groups of four).
+macro_rules! hashed_sampler {
+    ($name:ident, $align:ident) => {
+        impl Sampler for $name {
+            #[inline]
+            fn samples_per_pixel(&self) -> u32 {
+                self.spp
+            }
+
+            #[inline]
+            fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+                self.pixel_key = pixel_hash(self.seed, pixel);
+                self.index = index;
+                self.dimension = 2;
+                self.pixel = Vec2::new(self.value(0), self.value(1));
+            }
+
+            #[inline]
+            fn pixel_2d(&mut self) -> Vec2 {
+                self.pixel
+            }
+
+            #[inline]
+            fn next_1d(&mut self) -> f32 {
+                let d = self.dimension;
+                self.dimension = d.wrapping_add(1);
+                self.value(d)
+            }
+
+            #[inline]
+            fn next_2d(&mut self) -> Vec2 {
+                let d = hashed_sampler!(@start $align, self.dimension);
+                self.dimension = d.wrapping_add(2);
+                Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
+            }
+        }
+    };
+    (@start align_2d, $d:expr) => {
+        $d.wrapping_add($d & 1)
+    };
+    (@start no_align, $d:expr) => {
+        $d
+    };
+}
+
 /// Keys of the Sobol' index shuffles and output scrambles, apart from
 /// each other and from stream states.
 const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
@@ -571,39 +619,7 @@ impl Sobol {
     }
 }
 
-impl Sampler for Sobol {
-    #[inline]
-    fn samples_per_pixel(&self) -> u32 {
-        self.spp
-    }
-
-    #[inline]
-    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
-        self.pixel_key = pixel_hash(self.seed, pixel);
-        self.index = index;
-        self.dimension = 2;
-        self.pixel = Vec2::new(self.value(0), self.value(1));
-    }
-
-    #[inline]
-    fn pixel_2d(&mut self) -> Vec2 {
-        self.pixel
-    }
-
-    #[inline]
-    fn next_1d(&mut self) -> f32 {
-        let d = self.dimension;
-        self.dimension = d.wrapping_add(1);
-        self.value(d)
-    }
-
-    #[inline]
-    fn next_2d(&mut self) -> Vec2 {
-        let d = self.dimension.wrapping_add(self.dimension & 1);
-        self.dimension = d.wrapping_add(2);
-        Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
-    }
-}
+hashed_sampler!(Sobol, align_2d);
 
 /// The first 64 primes: the Halton bases of dimensions 0–63.
 const PRIMES: [u32; 64] = [
@@ -717,39 +733,7 @@ impl Halton {
     }
 }
 
-impl Sampler for Halton {
-    #[inline]
-    fn samples_per_pixel(&self) -> u32 {
-        self.spp
-    }
-
-    #[inline]
-    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
-        self.pixel_key = pixel_hash(self.seed, pixel);
-        self.index = index;
-        self.dimension = 2;
-        self.pixel = Vec2::new(self.value(0), self.value(1));
-    }
-
-    #[inline]
-    fn pixel_2d(&mut self) -> Vec2 {
-        self.pixel
-    }
-
-    #[inline]
-    fn next_1d(&mut self) -> f32 {
-        let d = self.dimension;
-        self.dimension = d.wrapping_add(1);
-        self.value(d)
-    }
-
-    #[inline]
-    fn next_2d(&mut self) -> Vec2 {
-        let d = self.dimension;
-        self.dimension = d.wrapping_add(2);
-        Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
-    }
-}
+hashed_sampler!(Halton, no_align);
 
 #[cfg(test)]
 mod tests {
