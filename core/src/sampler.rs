@@ -706,14 +706,21 @@ impl Halton {
         while scale > 1.0 / 33_554_432.0 {
             let digit = i % base;
             i /= base;
-            let permuted = permute(digit, base, (key >> 32) as u32);
+            // In base 2 a random permutation of {0, 1} is a keyed bit flip.
+            let permuted = if base == 2 {
+                digit ^ (key >> 63) as u32
+            } else {
+                permute(digit, base, (key >> 32) as u32)
+            };
             v += permuted as f64 * scale;
             if k < levels {
                 prefix = prefix * base as u64 + permuted as u64;
             }
             k += 1;
-            // The next digit's permutation depends on this one: nested.
-            key = mix64(key ^ (digit as u64 + 1));
+            // The next digit's permutation depends on this one (nested): a
+            // multiply-xorshift step, cheaper than a full mix per digit.
+            key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            key ^= key >> 29;
             scale *= inv;
         }
         // Rounding to f32 may cross a cell boundary by an ulp: step back in.
