@@ -182,9 +182,9 @@ fn passes_reshuffle_the_strata() {
 
 /// Owen-scrambled Sobol': the first 2^k samples of a pixel put exactly one
 /// point in every elementary interval of area 2^-k — every shape
-/// 2^-a × 2^-b with a + b = k — in the pixel position and in the first
-/// pair of every later group of four dimensions (the (0, 2)-sequence
-/// property, kept by the scrambling).
+/// 2^-a × 2^-b with a + b = k — in the pixel position and in every 2D
+/// draw, the lens pair and an odd-started one included (the
+/// (0, 2)-sequence property, kept by the scrambling).
 #[test]
 fn sobol_first_pairs_are_nets() {
     use strata::Sobol;
@@ -193,15 +193,16 @@ fn sobol_first_pairs_are_nets() {
             for k in 1..=10u32 {
                 let n = 1u32 << k;
                 let mut s = Sobol::new(n, seed).unwrap();
-                // Points of the pixel pair and of dimensions (4, 5), (8, 9).
-                let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); 3];
+                // The pixel pair, the lens (2, 3), dimensions (4, 5), and a
+                // 2D draw after three 1D draws (aligned to (10, 11)).
+                let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); 4];
                 for i in 0..n {
                     s.start_pixel_sample(pixel, i);
                     sets[0].push(s.pixel_2d());
-                    let _lens = s.next_2d(); // dimensions 2, 3
-                    sets[1].push(s.next_2d()); // 4, 5
-                    let _ = (s.next_1d(), s.next_1d()); // 6, 7
-                    sets[2].push(s.next_2d()); // 8, 9
+                    sets[1].push(s.next_2d());
+                    sets[2].push(s.next_2d());
+                    let _ = (s.next_1d(), s.next_1d(), s.next_1d());
+                    sets[3].push(s.next_2d());
                 }
                 for (which, pts) in sets.iter().enumerate() {
                     for a in 0..=k {

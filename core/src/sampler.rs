@@ -552,14 +552,16 @@ macro_rules! hashed_sampler {
 const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
 const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 
-/// Owen-scrambled Sobol' samples (Burley 2020), padded in groups of four
-/// dimensions; see the `sobol` module for the construction and its
-/// guarantees. Best with a power-of-two spp: the first `2^k` samples of a
-/// pixel are a `(0, k, 2)`-net in the pixel position and stratify every
-/// dimension into `2^k` equal strata.
+/// Owen-scrambled Sobol' samples (Burley 2020), padded in pairs of
+/// dimensions (as pbrt's `PaddedSobolSampler`); see the `sobol` module for
+/// the construction. Best with a power-of-two spp: the first `2^k` samples
+/// of a pixel are a `(0, k, 2)`-net in the pixel position and in every 2D
+/// draw, and stratify every dimension into `2^k` equal strata.
 ///
 /// `next_2d` starts on an even dimension (skipping one if needed), so a 2D
-/// pair never straddles two groups and keeps its joint stratification.
+/// draw is always one pair and keeps its joint stratification. (At the
+/// dimension counter's wrap-around, 2³² draws into a sample, it would
+/// reuse dimension 0.)
 ///
 /// ```
 /// use glam::UVec2;
@@ -609,11 +611,11 @@ impl Sobol {
     /// Dimension `d` of the current sample.
     #[inline]
     fn value(&self, d: u32) -> f32 {
-        let group = (mix64(self.pixel_key ^ SOBOL_GROUP_SALT ^ (d / 4) as u64) >> 32) as u32;
+        let group = (mix64(self.pixel_key ^ SOBOL_GROUP_SALT ^ (d / 2) as u64) >> 32) as u32;
         let index = sobol::nested_uniform_scramble(self.index, group);
         let key = (mix64(self.pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
         u32_to_unit_f32(sobol::nested_uniform_scramble(
-            sobol::sobol(index, (d % 4) as usize),
+            sobol::sobol(index, (d % 2) as usize),
             key,
         ))
     }
@@ -634,8 +636,8 @@ const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
 
 /// Owen-scrambled Halton samples: dimension `d` is the radical inverse of
 /// the sample index in the `d`-th prime base (2, 3, 5, 7, … for the first
-/// 64 dimensions; beyond that the bases repeat with independent
-/// scrambles), each digit passed through a random permutation that
+/// 64 dimensions, enough for 10 bounces; beyond that the values are
+/// independent uniforms), each digit passed through a random permutation that
 /// depends on the digits before it (a nested, Owen scramble) and on
 /// `(seed, pixel, d)`. Digits are scrambled down to `2⁻²⁵`, so the value
 /// uses the full precision of an `f32`.
@@ -690,7 +692,13 @@ impl Halton {
     /// Dimension `d` of the current sample: the Owen-scrambled radical
     /// inverse of the index in base `PRIMES[d % 64]`.
     fn value(&self, d: u32) -> f32 {
-        let base = PRIMES[(d % 64) as usize];
+        if d >= 64 {
+            // Beyond the 64 bases: independent uniform values (a repeated
+            // base would be driven by the same index digits and correlate).
+            let h = mix64(self.pixel_key ^ HALTON_SALT ^ ((d as u64) << 32 | self.index as u64));
+            return u32_to_unit_f32((h >> 32) as u32);
+        }
+        let base = PRIMES[d as usize];
         let inv = 1.0 / base as f64;
         let mut key = mix64(self.pixel_key ^ HALTON_SALT ^ d as u64);
         let (mut i, mut scale, mut v) = (self.index, inv, 0.0f64);
@@ -822,12 +830,22 @@ mod tests {
 
     #[test]
     fn huge_indices_and_dimensions_do_not_panic() {
+        let unit = |v: Vec2| v.cmplt(Vec2::ONE).all() && v.cmpge(Vec2::ZERO).all();
         let mut s = Stratified::new(7, 1).unwrap();
         s.start_pixel_sample(UVec2::new(u32::MAX, u32::MAX), u32::MAX);
         s.0.dimension = u32::MAX - 1;
-        let v = s.next_2d();
-        assert!(v.cmplt(Vec2::ONE).all() && v.cmpge(Vec2::ZERO).all());
+        assert!(unit(s.next_2d()));
         assert!((0.0..1.0).contains(&s.next_1d()));
+        let mut sob = Sobol::new(7, 1).unwrap();
+        sob.start_pixel_sample(UVec2::new(u32::MAX, 0), u32::MAX);
+        sob.dimension = u32::MAX - 2;
+        assert!(unit(sob.next_2d()) && (0.0..1.0).contains(&sob.next_1d()));
+        let mut hal = Halton::new(7, 1).unwrap();
+        hal.start_pixel_sample(UVec2::new(0, u32::MAX), u32::MAX);
+        assert!(unit(hal.pixel_2d()));
+        for _ in 0..100 {
+            assert!(unit(hal.next_2d()) && (0.0..1.0).contains(&hal.next_1d()));
+        }
     }
 
     #[test]

@@ -1,18 +1,21 @@
 //! Owen-scrambled Sobol' samples by hashing (Burley 2020, *Practical
-//! Hash-based Owen Scrambling*, JCGT 9(4)), padded in groups of four
-//! dimensions.
+//! Hash-based Owen Scrambling*, JCGT 9(4)), padded in pairs of dimensions
+//! (as pbrt's `PaddedSobolSampler`).
 //!
-//! Sample dimension `d` of a pixel belongs to group `g = d / 4` and uses
-//! Sobol' dimension `d % 4`. Within a group the sample index is shuffled
-//! by a nested uniform scramble keyed by `(seed, pixel, g)`, and every
-//! output value is Owen-scrambled by a key of `(seed, pixel, d)`. So:
+//! Sample dimension `d` of a pixel belongs to pair `g = d / 2` and uses
+//! Sobol' dimension `d % 2`. Within a pair the sample index is shuffled by
+//! a nested uniform scramble keyed by `(seed, pixel, g)`, and every output
+//! value is Owen-scrambled by a key of `(seed, pixel, d)`. So:
 //!
-//! - the first `2^k` samples of a pixel, in any group's first two
-//!   dimensions, form a `(0, k, 2)`-net: every elementary interval of area
-//!   `2^-k` holds exactly one point (the pixel position is such a pair);
+//! - the first `2^k` samples of a pixel, in every pair, form a
+//!   `(0, k, 2)`-net: every elementary interval of area `2^-k` holds
+//!   exactly one point (the pixel position and every 2D draw are pairs);
 //! - every single dimension is a `(0, 1)`-sequence: `2^k` samples fill
 //!   `2^k` equal strata exactly once;
-//! - groups are decorrelated from each other and pixels from each other.
+//! - pairs are decorrelated from each other and pixels from each other.
+//!
+//! Only Sobol' dimensions 0 and 1 are drawn; the table keeps 2 and 3 for a
+//! 4D padding.
 //!
 //! Direction numbers: dimension 0 is van der Corput; 1–3 come from the
 //! rows for dimensions 2–4 of Joe and Kuo's `new-joe-kuo-6.21201` (2008),
