@@ -323,11 +323,15 @@ fn render_lock() {
         got.push(film(name, UniformGrid::new(4, 5).unwrap()));
         got.push(film(name, Stratified::new(4, 5).unwrap()));
     }
-    // Sobol' renders, appended so the earlier entries keep their places.
+    // Sobol' and Halton renders, appended so earlier entries keep their
+    // places.
     for name in BUILT_IN {
         got.push(film(name, strata::Sobol::new(4, 5).unwrap()));
     }
-    let lock: [u64; 12] = [
+    for name in BUILT_IN {
+        got.push(film(name, strata::Halton::new(4, 5).unwrap()));
+    }
+    let lock: [u64; 15] = [
         0xa3b1b2bcd3e21f77,
         0xce8d68df935a9439,
         0x4f28f547359e6b5b,
@@ -340,6 +344,9 @@ fn render_lock() {
         0xeb1beeb21e8f4a66,
         0x5bd1dac69d25b954,
         0xf66c2daf48bd9a39,
+        0x78ff2021113a1e1d,
+        0x7a4a9d46768b32a1,
+        0x764c2363dd055970,
     ];
     assert_eq!(got, lock, "renders changed: {got:#018x?}\n{CHANGED}");
 }
