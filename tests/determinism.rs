@@ -156,6 +156,19 @@ fn check_pairs(name: &str, mut pair: impl FnMut(usize) -> Vec2) {
     assert!(r.abs() < 5.0 / n.sqrt(), "{name}: correlation {r}");
 }
 
+/// The same dimension of the same sample index in horizontally
+/// neighbouring pixels (16 samples per pixel): must be uncorrelated.
+fn check_neighbour_pixels<S: Sampler>(name: &str, mut s: S) {
+    check_pairs(name, |k| {
+        let i = (k % 16) as u32;
+        let p = pixel(k / 16);
+        s.start_pixel_sample(p, i);
+        let a = s.next_1d();
+        s.start_pixel_sample(p + UVec2::X, i);
+        Vec2::new(a, s.next_1d())
+    });
+}
+
 /// Pixel `k` of a 1000-wide image.
 fn pixel(k: usize) -> UVec2 {
     UVec2::new((k % 1000) as u32, (k / 1000) as u32)
@@ -221,15 +234,7 @@ fn consecutive_dimensions_are_independent() {
 /// jitters: the same dimension of the same sample index is uncorrelated.
 #[test]
 fn stratified_neighbour_pixels_are_independent() {
-    let mut s = Stratified::new(16, 7).unwrap();
-    check_pairs("pairs_stratified_pixel_x", |k| {
-        let i = (k % 16) as u32;
-        let p = pixel(k / 16);
-        s.start_pixel_sample(p, i);
-        let a = s.next_1d();
-        s.start_pixel_sample(p + UVec2::X, i);
-        Vec2::new(a, s.next_1d())
-    });
+    check_neighbour_pixels("pairs_stratified_pixel_x", Stratified::new(16, 7).unwrap());
 }
 
 /// A stratified sample's pixel position and its first bounce dimension are
@@ -280,28 +285,12 @@ fn stream_states_use_every_input_bit() {
 /// same dimension of the same index is uncorrelated across pixels.
 #[test]
 fn sobol_neighbour_pixels_are_independent() {
-    let mut s = Sobol::new(16, 7).unwrap();
-    check_pairs("pairs_sobol_pixel_x", |k| {
-        let i = (k % 16) as u32;
-        let p = pixel(k / 16);
-        s.start_pixel_sample(p, i);
-        let a = s.next_1d();
-        s.start_pixel_sample(p + UVec2::X, i);
-        Vec2::new(a, s.next_1d())
-    });
+    check_neighbour_pixels("pairs_sobol_pixel_x", Sobol::new(16, 7).unwrap());
 }
 
 /// Halton samples of neighbouring pixels use independent digit scrambles
 /// (without them every pixel would repeat one sequence).
 #[test]
 fn halton_neighbour_pixels_are_independent() {
-    let mut s = Halton::new(16, 7).unwrap();
-    check_pairs("pairs_halton_pixel_x", |k| {
-        let i = (k % 16) as u32;
-        let p = pixel(k / 16);
-        s.start_pixel_sample(p, i);
-        let a = s.next_1d();
-        s.start_pixel_sample(p + UVec2::X, i);
-        Vec2::new(a, s.next_1d())
-    });
+    check_neighbour_pixels("pairs_halton_pixel_x", Halton::new(16, 7).unwrap());
 }
