@@ -126,7 +126,7 @@ fn seeds_change_every_kind() {
     assert_ne!(ga, gb);
 }
 
-const PAIR_TESTS: usize = 10;
+const PAIR_TESTS: usize = 11;
 const PAIRS: usize = 1_000_000;
 
 /// χ² of `PAIRS` value pairs on the unit square against the uniform
@@ -293,4 +293,22 @@ fn sobol_neighbour_pixels_are_independent() {
 #[test]
 fn halton_neighbour_pixels_are_independent() {
     check_neighbour_pixels("pairs_halton_pixel_x", Halton::new(16, 7).unwrap());
+}
+
+/// Below the digits that tell its 4 samples apart, a Halton value is a
+/// uniform point of its cell (base 2: cells of 1/4; base 3: cells of 1/9),
+/// independently in each dimension: the positions within the cells of
+/// the pixel's two dimensions are uniform on the square.
+#[test]
+fn halton_points_are_uniform_within_their_cells() {
+    let mut s = Halton::new(4, 3).unwrap();
+    check_pairs("pairs_halton_within_cells", |k| {
+        s.start_pixel_sample(pixel(k / 4), (k % 4) as u32);
+        let p = s.pixel_2d();
+        let frac = |v: f32, cells: f64| {
+            let x = v as f64 * cells;
+            (x - x.floor()) as f32
+        };
+        Vec2::new(frac(p.x, 4.0), frac(p.y, 9.0))
+    });
 }

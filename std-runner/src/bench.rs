@@ -537,6 +537,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             scene: &scene,
             width: 320,
             height: 180,
+            window: crate::render::whole(320, 180),
             spp,
             samples: 0..spp,
             max_depth: depth,

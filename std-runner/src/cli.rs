@@ -2,12 +2,15 @@
 //! are checked before any work starts; a bad one exits non-zero with one
 //! clear line and writes nothing.
 
+use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, value_parser};
+use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
+use strata::render::Tile;
 
 use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic, write_image};
 use crate::render::{Job, SamplerKind, run};
@@ -41,6 +44,344 @@ pub enum Command {
     /// Measure sampling, intersection and rendering throughput (see the
     /// suite in `std-runner/src/bench.rs`); prints a table.
     Bench(BenchArgs),
+    /// Measure how fast each sampler's error falls with spp: RMSE of a
+    /// crop against a cached high-spp reference, as CSV, a log–log plot
+    /// and fitted slopes.
+    Converge(ConvergeArgs),
+    /// Render one scene with several samplers at the same spp, side by
+    /// side in one labelled PNG (default: the `horizon` checker plane).
+    Aliasing(AliasingArgs),
+}
+
+/// Parses `x0,x1,y0,y1` (pixels, half-open: columns x0..x1, rows y0..y1),
+/// like pbrt's `--pixelbounds`.
+fn pixel_bounds(s: &str) -> Result<[u32; 4], String> {
+    let v: Vec<&str> = s.split(',').collect();
+    let [x0, x1, y0, y1] = v[..] else {
+        return Err(format!("`{s}` is not x0,x1,y0,y1"));
+    };
+    let mut out = [0u32; 4];
+    for (o, t) in out.iter_mut().zip([x0, x1, y0, y1]) {
+        *o = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{t}` is not a pixel coordinate"))?;
+    }
+    if out[0] >= out[1] || out[2] >= out[3] {
+        return Err(format!("`{s}` is empty: need x0 < x1 and y0 < y1"));
+    }
+    Ok(out)
+}
+
+/// The window of `bounds` in a `width × height` image, or an error naming
+/// the flag.
+fn window_of(bounds: [u32; 4], width: u32, height: u32) -> Result<Tile> {
+    let [x0, x1, y0, y1] = bounds;
+    if x1 > width || y1 > height {
+        bail!("--pixel-bounds {x0},{x1},{y0},{y1} reaches outside the {width}x{height} image");
+    }
+    Ok(Tile {
+        x0,
+        y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
+}
+
+/// `strata converge` flags.
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// A built-in scene or a TOML scene file.
+    #[arg(long, default_value = "week09")]
+    pub scene: String,
+    /// Image width in pixels, height by the scene's aspect [default: the
+    /// scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
+    pub width: Option<u32>,
+    /// The crop measured, `x0,x1,y0,y1` in pixels [default: the central
+    /// half of the image in each direction].
+    #[arg(long, value_parser = pixel_bounds)]
+    pub pixel_bounds: Option<[u32; 4]>,
+    /// Ray segments per path [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    pub max_depth: Option<u32>,
+    /// Samplers to measure, comma-separated [default: all].
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub samplers: Vec<SamplerKind>,
+    /// Also measure 1024 spp (after 1, 4, 16, 64, 256).
+    #[arg(long)]
+    pub with_1024: bool,
+    /// Samples per pixel of the reference (Sobol'), at least 4 times the
+    /// largest measured spp.
+    #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=1 << 24))]
+    pub reference_spp: u32,
+    /// Seeds per point; the RMSE is the root of the mean squared error
+    /// over them.
+    #[arg(long, default_value_t = 1, value_parser = value_parser!(u32).range(1..=64))]
+    pub seeds: u32,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    pub threads: u16,
+    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
+    /// ~/.cache/strata].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// The CSV written [default: converge-SCENE.csv].
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// The plot written, a PNG [default: converge-SCENE.png].
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+/// `strata aliasing` flags.
+#[derive(Debug, Args)]
+pub struct AliasingArgs {
+    /// A built-in scene or a TOML scene file.
+    #[arg(long, default_value = "horizon")]
+    pub scene: String,
+    /// Width of each panel in pixels, height by the scene's aspect
+    /// [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=4096))]
+    pub width: Option<u32>,
+    /// Samples per pixel of every panel.
+    #[arg(long, default_value_t = 4, value_parser = value_parser!(u32).range(1..=1 << 24))]
+    pub spp: u32,
+    /// Ray segments per path [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    pub max_depth: Option<u32>,
+    /// The samplers, one panel each, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "grid,independent,stratified"
+    )]
+    pub samplers: Vec<SamplerKind>,
+    /// Samples per pixel of a last, reference panel (Sobol'); 0 for none.
+    /// Each panel's label gives its RMSE against it.
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(0..=1 << 24))]
+    pub reference_spp: u32,
+    /// Seed of every panel.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    pub threads: u16,
+    /// Output PNG.
+    #[arg(short, long, default_value = "aliasing.png")]
+    pub output: PathBuf,
+}
+
+/// The height of a `width`-wide image of `scene` at its aspect.
+fn height_for(scene: &SceneData, width: u32) -> Result<u32> {
+    let aspect = scene.defaults.aspect;
+    let h = (width as f64 / aspect as f64).round();
+    if !(1.0..=MAX_WIDTH as f64).contains(&h) {
+        bail!("width {width} at aspect {aspect} gives a height of {h} pixels (1..={MAX_WIDTH})");
+    }
+    Ok(h as u32)
+}
+
+/// Checks that `path` ends in `.ext` and can be written.
+fn check_output_ext(path: &Path, ext: &str, flag: &str) -> Result<()> {
+    if path
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case(ext))
+    {
+        bail!("{flag} `{}` must end in .{ext}", path.display());
+    }
+    check_writable_dir(path)
+}
+
+/// Runs `strata converge`.
+pub fn converge(args: &ConvergeArgs) -> Result<()> {
+    use crate::study::{self, View};
+    let scene = resolve_scene(&args.scene)?;
+    let width = args.width.unwrap_or(scene.defaults.width);
+    let height = height_for(&scene, width)?;
+    let window = match args.pixel_bounds {
+        Some(b) => window_of(b, width, height)?,
+        None => Tile {
+            x0: width / 4,
+            y0: height / 4,
+            width: (width / 2).max(1),
+            height: (height / 2).max(1),
+        },
+    };
+    let mut spps = vec![1u32, 4, 16, 64, 256];
+    if args.with_1024 {
+        spps.push(1024);
+    }
+    let top = *spps.last().expect("spp list");
+    if args.reference_spp < 4 * top {
+        bail!(
+            "--reference-spp {} must be at least 4 x {top} (the largest measured spp)",
+            args.reference_spp
+        );
+    }
+    let samplers = if args.samplers.is_empty() {
+        SamplerKind::ALL.to_vec()
+    } else {
+        // In the order given, each once.
+        let mut v = args.samplers.clone();
+        let mut seen = Vec::new();
+        v.retain(|s| {
+            let first = !seen.contains(s);
+            seen.push(*s);
+            first
+        });
+        v
+    };
+    let csv_path = args
+        .csv
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.csv", scene.name)));
+    let plot_path = args
+        .plot
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.png", scene.name)));
+    check_output_ext(&csv_path, "csv", "--csv")?;
+    check_output_ext(&plot_path, "png", "--plot")?;
+    let cache_dir = args
+        .cache_dir
+        .clone()
+        .unwrap_or_else(study::default_cache_dir);
+
+    let view = View {
+        scene: &scene,
+        width,
+        height,
+        window,
+        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: args.threads as usize,
+    };
+    let started = std::time::Instant::now();
+    let (reference, cached) = study::reference(&view, args.reference_spp, &cache_dir)?;
+    say(&format!(
+        "{}: {}x{} crop at ({}, {}) of {}x{}, depth {}; reference: sobol {} spp, {}",
+        scene.name,
+        window.width,
+        window.height,
+        window.x0,
+        window.y0,
+        width,
+        height,
+        view.max_depth,
+        args.reference_spp,
+        if cached {
+            "cached".to_string()
+        } else {
+            format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
+        }
+    ));
+    let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
+
+    let title = format!(
+        "{}: RMSE of a {}x{} crop vs spp",
+        scene.name, window.width, window.height
+    );
+    let plot = study::plot_convergence(&points, &samplers, &title, 800, 560)?;
+    let text = study::csv(&points);
+    write_atomic(&csv_path, |tmp| Ok(std::fs::write(tmp, &text)?))
+        .with_context(|| format!("writing `{}`", csv_path.display()))?;
+    study::write_png(&plot_path, &plot, 800, 560)?;
+
+    let mut table = format!("{:<12}", "sampler");
+    for spp in &spps {
+        write!(table, " {:>9}", format!("{spp} spp")).ok();
+    }
+    table.push_str("  slope  slope>=16");
+    for &s in &samplers {
+        let line = study::series(&points, s);
+        write!(
+            table,
+            "
+{:<12}",
+            s.name()
+        )
+        .ok();
+        for &(_, e) in &line {
+            write!(table, " {e:>9.2e}").ok();
+        }
+        let tail: Vec<_> = line.iter().copied().filter(|&(x, _)| x >= 16.0).collect();
+        let fmt = |k: Option<f64>| k.map_or("-".into(), |k| format!("{k:.2}"));
+        write!(
+            table,
+            "  {:>5} {:>10}",
+            fmt(study::log_log_slope(&line)),
+            fmt(study::log_log_slope(&tail))
+        )
+        .ok();
+    }
+    say(&table);
+    say(&format!(
+        "wrote {} and {}",
+        csv_path.display(),
+        plot_path.display()
+    ));
+    Ok(())
+}
+
+/// Runs `strata aliasing`.
+pub fn aliasing(args: &AliasingArgs) -> Result<()> {
+    use crate::study::{self, View};
+    let scene = resolve_scene(&args.scene)?;
+    let width = args.width.unwrap_or(scene.defaults.width);
+    let height = height_for(&scene, width)?;
+    if args.samplers.is_empty() {
+        bail!("--samplers needs at least one sampler");
+    }
+    if args.spp > strata::sampler::MAX_STRATA_SPP {
+        bail!("--spp is at most {}", strata::sampler::MAX_STRATA_SPP);
+    }
+    check_output_ext(&args.output, "png", "--output")?;
+    let view = View {
+        scene: &scene,
+        width,
+        height,
+        window: crate::render::whole(width, height),
+        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: args.threads as usize,
+    };
+    let mut panels = Vec::new();
+    for &s in &args.samplers {
+        panels.push((
+            format!("{}, {} spp", s.name(), args.spp),
+            view.render(s, args.spp, args.seed)?,
+        ));
+    }
+    if args.reference_spp > 0 {
+        let reference = view.render(
+            SamplerKind::Sobol,
+            args.reference_spp,
+            study::REFERENCE_SEED,
+        )?;
+        for (label, pixels) in &mut panels {
+            let e = study::rmse(pixels, &reference);
+            say(&format!("{label}: RMSE {e:.4}"));
+            write!(label, " (RMSE {e:.3})").ok();
+        }
+        panels.push((
+            format!("reference: sobol, {} spp", args.reference_spp),
+            reference,
+        ));
+    }
+    let refs: Vec<(&str, &[Vec3])> = panels
+        .iter()
+        .map(|(l, p)| (l.as_str(), p.as_slice()))
+        .collect();
+    let (bytes, w, h) = study::side_by_side(&refs, width, height)?;
+    study::write_png(&args.output, &bytes, w, h)?;
+    say(&format!(
+        "{}: {} panels of {}x{}, to {}",
+        scene.name,
+        panels.len(),
+        width,
+        height,
+        args.output.display()
+    ));
+    Ok(())
 }
 
 /// `strata bench` flags.
@@ -218,6 +559,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         scene: &scene,
         width,
         height,
+        window: crate::render::whole(width, height),
         spp,
         samples: 0..spp,
         max_depth,
@@ -324,6 +666,8 @@ pub fn main_with(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
+        Some(Command::Converge(args)) => converge(&args),
+        Some(Command::Aliasing(args)) => aliasing(&args),
         // No subcommand: `strata render` with every default.
         None => match Cli::try_parse_from(["strata", "render"])?.command {
             Some(Command::Render(args)) => render(&args),

@@ -133,6 +133,31 @@ fn write_png(
     transfer: Transfer,
     metadata: &[(String, String)],
 ) -> Result<()> {
+    let bytes: Vec<u8> = pixels
+        .iter()
+        .flat_map(|p| {
+            [
+                to_u8(p.x, transfer),
+                to_u8(p.y, transfer),
+                to_u8(p.z, transfer),
+            ]
+        })
+        .collect();
+    write_png_rgb8(path, width, height, &bytes, transfer, metadata)
+}
+
+/// Writes 8-bit RGB `bytes` (already encoded with `transfer`, row-major)
+/// as a PNG at `path`, with `metadata` as text chunks. Not atomic on its
+/// own: wrap it in [`write_atomic`].
+pub fn write_png_rgb8(
+    path: &Path,
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+    transfer: Transfer,
+    metadata: &[(String, String)],
+) -> Result<()> {
+    assert_eq!(bytes.len(), width as usize * height as usize * 3);
     let file = std::fs::File::create(path)
         .with_context(|| format!("cannot create `{}`", path.display()))?;
     let mut enc = png::Encoder::new(BufWriter::new(file), width, height);
@@ -146,17 +171,7 @@ fn write_png(
         enc.add_text_chunk(k.clone(), v.clone())?;
     }
     let mut writer = enc.write_header()?;
-    let bytes: Vec<u8> = pixels
-        .iter()
-        .flat_map(|p| {
-            [
-                to_u8(p.x, transfer),
-                to_u8(p.y, transfer),
-                to_u8(p.z, transfer),
-            ]
-        })
-        .collect();
-    writer.write_image_data(&bytes)?;
+    writer.write_image_data(bytes)?;
     writer.finish()?;
     Ok(())
 }

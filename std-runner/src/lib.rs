@@ -8,6 +8,7 @@ pub mod image_io;
 pub mod render;
 pub mod scene_file;
 pub mod scenes;
+pub mod study;
 pub mod workload;
 
 /// One line describing this build: the version and the SIMD level its

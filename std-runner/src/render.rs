@@ -30,6 +30,15 @@ pub enum SamplerKind {
 }
 
 impl SamplerKind {
+    /// Every sampler, in the order above.
+    pub const ALL: [SamplerKind; 5] = [
+        SamplerKind::Independent,
+        SamplerKind::Grid,
+        SamplerKind::Stratified,
+        SamplerKind::Sobol,
+        SamplerKind::Halton,
+    ];
+
     /// The name used on the command line and in metadata.
     pub fn name(self) -> &'static str {
         match self {
@@ -51,6 +60,10 @@ pub struct Job<'a> {
     pub width: u32,
     /// Image height.
     pub height: u32,
+    /// The pixels to render, inside `width × height` ([`Job::whole`] for
+    /// all of them). Pixels outside are not traced; a pixel's value does
+    /// not depend on the window.
+    pub window: Tile,
     /// Samples per pixel (the sampler's pattern size).
     pub spp: u32,
     /// Sample indices to render, within `0..spp` for a whole render.
@@ -69,10 +82,21 @@ pub struct Job<'a> {
     pub direct_lighting: bool,
 }
 
+/// The window of every pixel of a `width × height` image.
+#[must_use]
+pub fn whole(width: u32, height: u32) -> Tile {
+    Tile {
+        x0: 0,
+        y0: 0,
+        width,
+        height,
+    }
+}
+
 /// A finished render.
 #[derive(Debug)]
 pub struct Rendered {
-    /// One accumulator per pixel, row-major.
+    /// One accumulator per pixel of the job's window, row-major.
     pub pixels: Vec<PixelSum>,
     /// Wall-clock time of the tracing.
     pub wall: Duration,
@@ -80,16 +104,17 @@ pub struct Rendered {
     pub stats: TileStats,
 }
 
-/// The tiles of a `width × height` image, row-major.
-pub fn tiles(width: u32, height: u32, side: u32) -> Vec<Tile> {
+/// The tiles of `window`, row-major, `side × side` except at its right
+/// and bottom edges.
+pub fn tiles(window: Tile, side: u32) -> Vec<Tile> {
     let mut out = Vec::new();
-    for y0 in (0..height).step_by(side as usize) {
-        for x0 in (0..width).step_by(side as usize) {
+    for dy in (0..window.height).step_by(side as usize) {
+        for dx in (0..window.width).step_by(side as usize) {
             out.push(Tile {
-                x0,
-                y0,
-                width: side.min(width - x0),
-                height: side.min(height - y0),
+                x0: window.x0 + dx,
+                y0: window.y0 + dy,
+                width: side.min(window.width - dx),
+                height: side.min(window.height - dy),
             });
         }
     }
@@ -99,6 +124,18 @@ pub fn tiles(width: u32, height: u32, side: u32) -> Vec<Tile> {
 /// Renders `job`, calling `progress` with each finished tile's pixel count.
 pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     let data = job.scene;
+    let w = job.window;
+    if w.width == 0
+        || w.height == 0
+        || w.x0.checked_add(w.width).is_none_or(|x1| x1 > job.width)
+        || w.y0.checked_add(w.height).is_none_or(|y1| y1 > job.height)
+    {
+        return Err(anyhow!(
+            "pixel window {w:?} is empty or outside the {}x{} image",
+            job.width,
+            job.height
+        ));
+    }
     let camera = Camera::new(&data.camera, job.width, job.height)
         .map_err(|e| anyhow!("camera of `{}`: {e:?}", data.name))?;
     let settings = RenderSettings {
@@ -155,13 +192,13 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         })
     })??;
     let wall = start.elapsed();
-    let mut pixels = vec![PixelSum::ZERO; job.width as usize * job.height as usize];
+    let mut pixels = vec![PixelSum::ZERO; w.area()];
     let mut stats = TileStats::default();
     for (tile, film, tile_stats) in films {
         stats.add(&tile_stats);
         for row in 0..tile.height {
             let src = &film[(row * tile.width) as usize..][..tile.width as usize];
-            let at = ((tile.y0 + row) * job.width + tile.x0) as usize;
+            let at = ((tile.y0 - w.y0 + row) * w.width + tile.x0 - w.x0) as usize;
             pixels[at..at + tile.width as usize].copy_from_slice(src);
         }
     }
@@ -181,7 +218,7 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<(Tile, Vec<PixelSum>, TileStats)>> {
     let sampler = sampler.ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?;
-    tiles(job.width, job.height, job.tile)
+    tiles(job.window, job.tile)
         .into_par_iter()
         .map(|tile| {
             let mut film = vec![PixelSum::ZERO; tile.area()];
@@ -201,15 +238,33 @@ mod tests {
     #[test]
     fn tiles_cover_the_image_once() {
         for (w, h, s) in [(320, 180, 32), (7, 5, 3), (1, 1, 64), (100, 3, 7)] {
-            let mut hit = vec![0u8; (w * h) as usize];
-            for t in tiles(w, h, s) {
-                for y in t.y0..t.y0 + t.height {
-                    for x in t.x0..t.x0 + t.width {
-                        hit[(y * w + x) as usize] += 1;
+            // The whole image, and a window inside a larger one.
+            for window in [
+                whole(w, h),
+                Tile {
+                    x0: 5,
+                    y0: 2,
+                    width: w,
+                    height: h,
+                },
+            ] {
+                let (iw, ih) = (window.x0 + w + 3, window.y0 + h + 1);
+                let mut hit = vec![0u8; (iw * ih) as usize];
+                for t in tiles(window, s) {
+                    for y in t.y0..t.y0 + t.height {
+                        for x in t.x0..t.x0 + t.width {
+                            hit[(y * iw + x) as usize] += 1;
+                        }
+                    }
+                }
+                for y in 0..ih {
+                    for x in 0..iw {
+                        let inside = (window.x0..window.x0 + w).contains(&x)
+                            && (window.y0..window.y0 + h).contains(&y);
+                        assert_eq!(hit[(y * iw + x) as usize], inside as u8, "{w}x{h}/{s}");
                     }
                 }
             }
-            assert!(hit.iter().all(|&k| k == 1), "{w}x{h}/{s}");
         }
     }
 }

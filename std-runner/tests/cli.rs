@@ -551,3 +551,151 @@ fn a_full_stdout_is_not_an_error() {
     );
     assert!(dir.path().join("f.png").exists());
 }
+
+fn png_size(p: &Path) -> (u32, u32) {
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes(p)));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    (info.width, info.height)
+}
+
+#[test]
+fn converge_writes_csv_and_plot_and_caches_its_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "converge",
+        "--width",
+        "48",
+        "--pixel-bounds",
+        "8,40,4,24",
+        "--samplers",
+        "independent,sobol",
+        "--reference-spp",
+        "1024",
+        "--cache-dir",
+        "cache",
+        "--csv",
+        "c.csv",
+        "--plot",
+        "c.png",
+    ];
+    let first = ok(d, &args);
+    assert!(first.contains("32x20 crop at (8, 4) of 48x27"), "{first}");
+    assert!(first.contains("rendered in"), "{first}");
+    let csv = std::fs::read_to_string(d.join("c.csv")).unwrap();
+    let rows: Vec<(String, u32, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[0].into(), f[1].parse().unwrap(), f[2].parse().unwrap())
+        })
+        .collect();
+    assert_eq!(csv.lines().next(), Some("sampler,spp,rmse"));
+    assert_eq!(rows.len(), 10, "{csv}");
+    let at = |s: &str, spp: u32| {
+        rows.iter()
+            .find(|r| r.0 == s && r.1 == spp)
+            .unwrap_or_else(|| panic!("no {s} {spp} in {csv}"))
+            .2
+    };
+    // The study measures what it should: error falls with spp, and faster
+    // for Sobol' than for independent samples.
+    for s in ["independent", "sobol"] {
+        assert!(at(s, 256) < 0.25 * at(s, 4), "{csv}");
+    }
+    assert!(at("sobol", 256) < at("independent", 256), "{csv}");
+    assert_eq!(png_size(&d.join("c.png")), (800, 560));
+    assert_eq!(std::fs::read_dir(d.join("cache")).unwrap().count(), 1);
+
+    // Again: the reference comes from the cache, and the numbers repeat.
+    let second = ok(d, &args);
+    assert!(
+        second.contains("reference: sobol 1024 spp, cached"),
+        "{second}"
+    );
+    assert_eq!(std::fs::read_to_string(d.join("c.csv")).unwrap(), csv);
+    // A slope per sampler.
+    assert!(
+        second
+            .lines()
+            .any(|l| l.starts_with("sobol") && l.contains("-0.")),
+        "{second}"
+    );
+}
+
+#[test]
+fn aliasing_demo_puts_labelled_panels_side_by_side() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = ok(
+        d,
+        &[
+            "aliasing",
+            "--width",
+            "64",
+            "--reference-spp",
+            "64",
+            "-o",
+            "a.png",
+        ],
+    );
+    for s in [
+        "grid, 4 spp: RMSE",
+        "independent, 4 spp: RMSE",
+        "stratified, 4 spp: RMSE",
+    ] {
+        assert!(out.contains(s), "{out}");
+    }
+    // Four 64 x 36 panels with 6-pixel gaps and a 30-pixel label band.
+    assert_eq!(png_size(&d.join("a.png")), (4 * 64 + 5 * 6, 36 + 6 + 30));
+    ok(
+        d,
+        &[
+            "aliasing",
+            "--width",
+            "40",
+            "--reference-spp",
+            "0",
+            "--samplers",
+            "grid",
+            "-o",
+            "b.png",
+        ],
+    );
+    assert_eq!(png_size(&d.join("b.png")), (40 + 2 * 6, 22 + 6 + 30));
+}
+
+#[test]
+fn studies_refuse_bad_flags_before_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let c = ["converge", "--cache-dir", "cache", "--width", "32"];
+    let with = |extra: &[&'static str]| [&c[..], extra].concat();
+    for (extra, says) in [
+        (&["--reference-spp", "512"][..], "at least 4 x 256"),
+        (
+            &["--with-1024", "--reference-spp", "2048"],
+            "at least 4 x 1024",
+        ),
+        (&["--pixel-bounds", "0,40,0,5"], "outside the 32x18 image"),
+        (&["--pixel-bounds", "5,5,0,5"], "empty"),
+        (&["--pixel-bounds", "1,2,3"], "x0,x1,y0,y1"),
+        (&["--csv", "out.txt"], "must end in .csv"),
+        (&["--plot", "out.jpg"], "must end in .png"),
+        (&["--samplers", "nope"], "invalid value"),
+        (&["--scene", "nope"], "unknown scene"),
+    ] {
+        let err = refused(d, &with(extra));
+        assert!(err.contains(says), "{extra:?}: {err}");
+    }
+    for (args, says) in [
+        (&["aliasing", "-o", "a.exr"][..], "must end in .png"),
+        (&["aliasing", "--spp", "0"], "0 is not in 1"),
+        (&["aliasing", "--samplers", "grid,nope"], "invalid value"),
+    ] {
+        let err = refused(d, args);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}

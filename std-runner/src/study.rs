@@ -1,0 +1,521 @@
+//! Measured studies of the samplers: the convergence study (`strata
+//! converge`: RMSE against a cached high-spp reference, by sampler and
+//! spp, as CSV, a log–log plot and fitted slopes) and the aliasing demo
+//! (`strata aliasing`: one scene under several samplers side by side).
+
+use std::fmt::Write as _;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use plotters::prelude::*;
+use strata::render::Tile;
+
+use crate::image_io::{Transfer, to_u8, write_atomic, write_png_rgb8};
+use crate::render::{Job, SamplerKind, run};
+use crate::scenes::SceneData;
+
+/// Root mean square error over pixels and RGB channels, in f64.
+///
+/// # Panics
+/// If the slices differ in length or are empty.
+#[must_use]
+pub fn rmse(image: &[Vec3], reference: &[Vec3]) -> f64 {
+    assert_eq!(image.len(), reference.len());
+    assert!(!image.is_empty());
+    let sum: f64 = image
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| {
+            let d = (*a - *b).as_dvec3();
+            d.dot(d)
+        })
+        .sum();
+    (sum / (3 * image.len()) as f64).sqrt()
+}
+
+/// The least-squares slope of `ln y` against `ln x`: the exponent `k` of
+/// the best fit `y ≈ c·x^k`. `None` with fewer than two distinct `x` or a
+/// non-positive value.
+#[must_use]
+pub fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
+    if points.iter().any(|&(x, y)| !(x > 0.0 && y > 0.0)) {
+        return None;
+    }
+    let n = points.len() as f64;
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), &(x, y)| (a + x.ln(), b + y.ln()));
+    let (mx, my) = (sx / n, sy / n);
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for &(x, y) in points {
+        let dx = x.ln() - mx;
+        sxx += dx * dx;
+        sxy += dx * (y.ln() - my);
+    }
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// What a study renders: a scene, its image size, the pixel window and
+/// the path depth.
+#[derive(Clone, Debug)]
+pub struct View<'a> {
+    /// The scene.
+    pub scene: &'a SceneData,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The pixels rendered.
+    pub window: Tile,
+    /// Ray segments per path.
+    pub max_depth: u32,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+impl View<'_> {
+    /// Renders the window with `sampler` at `spp` and `seed`, returning the
+    /// pixel means (row-major within the window).
+    pub fn render(&self, sampler: SamplerKind, spp: u32, seed: u64) -> Result<Vec<Vec3>> {
+        let job = Job {
+            scene: self.scene,
+            width: self.width,
+            height: self.height,
+            window: self.window,
+            spp,
+            samples: 0..spp,
+            max_depth: self.max_depth,
+            sampler,
+            seed,
+            threads: self.threads,
+            tile: 16,
+            direct_lighting: true,
+        };
+        Ok(run(&job, &|_| {})?
+            .pixels
+            .iter()
+            .map(|p| p.mean())
+            .collect())
+    }
+
+    /// Everything the reference depends on, as one line: two views with
+    /// the same key render the same reference.
+    fn reference_key(&self, spp: u32) -> String {
+        let w = self.window;
+        format!(
+            "strata {} scene {:016x} size {}x{} window {},{} {}x{} depth {} reference sobol {} spp seed {}",
+            env!("CARGO_PKG_VERSION"),
+            self.scene.content_hash(),
+            self.width,
+            self.height,
+            w.x0,
+            w.y0,
+            w.width,
+            w.height,
+            self.max_depth,
+            spp,
+            REFERENCE_SEED
+        )
+    }
+}
+
+/// The seed of every reference render: apart from the seeds the studies
+/// measure (0, 1, 2, …), so reference and estimate are independent.
+pub const REFERENCE_SEED: u64 = u64::MAX;
+
+const CACHE_MAGIC: &[u8] = b"strata reference v1\n";
+
+/// Where references are cached when no directory is given:
+/// `$XDG_CACHE_HOME/strata`, else `$HOME/.cache/strata`, else
+/// `.strata-cache` in the current directory.
+#[must_use]
+pub fn default_cache_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("XDG_CACHE_HOME").filter(|d| !d.is_empty()) {
+        return PathBuf::from(d).join("strata");
+    }
+    if let Some(h) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
+        return PathBuf::from(h).join(".cache").join("strata");
+    }
+    PathBuf::from(".strata-cache")
+}
+
+/// A high-spp reference of `view`: Sobol' at `spp` with
+/// [`REFERENCE_SEED`], read from `cache_dir` when a file there was made
+/// for exactly this view (the file stores its key and is checked against
+/// it), else rendered and stored. Returns the pixels and whether they came
+/// from the cache. A cache that cannot be read or written is ignored with
+/// a warning: it only saves time.
+pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec3>, bool)> {
+    let key = view.reference_key(spp);
+    let n = view.window.area();
+    let path = cache_dir.join(format!(
+        "{}-{:016x}.ref",
+        view.scene.name,
+        fnv(key.as_bytes())
+    ));
+    if let Some(pixels) = read_reference(&path, &key, n) {
+        return Ok((pixels, true));
+    }
+    let pixels = view.render(SamplerKind::Sobol, spp, REFERENCE_SEED)?;
+    let stored = std::fs::create_dir_all(cache_dir)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| write_atomic(&path, |tmp| write_reference(tmp, &key, &pixels)));
+    if let Err(e) = stored {
+        eprintln!(
+            "warning: reference not cached at `{}`: {e:#}",
+            path.display()
+        );
+    }
+    Ok((pixels, false))
+}
+
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The cached pixels, or `None` if the file is missing, was made for
+/// another key, or is truncated.
+fn read_reference(path: &Path, key: &str, n: usize) -> Option<Vec<Vec3>> {
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take((CACHE_MAGIC.len() + key.len() + 1 + n * 12 + 1) as u64)
+        .read_to_end(&mut bytes)
+        .ok()?;
+    let rest = bytes.strip_prefix(CACHE_MAGIC)?;
+    let rest = rest.strip_prefix(key.as_bytes())?.strip_prefix(b"\n")?;
+    if rest.len() != n * 12 {
+        return None;
+    }
+    let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    Some(
+        rest.chunks_exact(12)
+            .map(|c| Vec3::new(f(&c[0..4]), f(&c[4..8]), f(&c[8..12])))
+            .collect(),
+    )
+}
+
+fn write_reference(path: &Path, key: &str, pixels: &[Vec3]) -> Result<()> {
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    out.write_all(CACHE_MAGIC)?;
+    out.write_all(key.as_bytes())?;
+    out.write_all(b"\n")?;
+    for p in pixels {
+        for c in p.to_array() {
+            out.write_all(&c.to_le_bytes())?;
+        }
+    }
+    out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+    Ok(())
+}
+
+/// One measured point of the convergence study.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// RMSE against the reference, root of the mean over seeds of the MSE.
+    pub rmse: f64,
+}
+
+/// Renders `view` with every sampler at every spp for seeds `0..seeds`
+/// and measures RMSE against `reference`; `progress` gets each finished
+/// point.
+pub fn converge(
+    view: &View<'_>,
+    samplers: &[SamplerKind],
+    spps: &[u32],
+    seeds: u32,
+    reference: &[Vec3],
+    progress: &dyn Fn(&Point),
+) -> Result<Vec<Point>> {
+    let mut out = Vec::new();
+    for &sampler in samplers {
+        for &spp in spps {
+            let mut mse = 0.0;
+            for seed in 0..seeds {
+                let e = rmse(&view.render(sampler, spp, seed as u64)?, reference);
+                mse += e * e;
+            }
+            let point = Point {
+                sampler,
+                spp,
+                rmse: (mse / seeds as f64).sqrt(),
+            };
+            progress(&point);
+            out.push(point);
+        }
+    }
+    Ok(out)
+}
+
+/// The study's CSV: `sampler,spp,rmse`, one row per point.
+#[must_use]
+pub fn csv(points: &[Point]) -> String {
+    let mut s = String::from("sampler,spp,rmse\n");
+    for p in points {
+        writeln!(s, "{},{},{:.9e}", p.sampler.name(), p.spp, p.rmse).expect("a String");
+    }
+    s
+}
+
+/// The points of one sampler as `(spp, rmse)`.
+#[must_use]
+pub fn series(points: &[Point], sampler: SamplerKind) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .filter(|p| p.sampler == sampler)
+        .map(|p| (p.spp as f64, p.rmse))
+        .collect()
+}
+
+/// Registers the bundled font (Ubuntu Light, from `epaint_default_fonts`)
+/// as plotters' `sans-serif` once, so text draws the same on any machine
+/// and needs no system fonts.
+fn fonts() -> Result<()> {
+    static DONE: OnceLock<bool> = OnceLock::new();
+    let ok = *DONE.get_or_init(|| {
+        plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        )
+        .is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        bail!("the bundled font did not load")
+    }
+}
+
+/// Line colours, one per sampler, in [`SamplerKind`] order.
+fn colour(sampler: SamplerKind) -> RGBColor {
+    match sampler {
+        SamplerKind::Independent => RGBColor(0xd6, 0x27, 0x28),
+        SamplerKind::Grid => RGBColor(0x7f, 0x7f, 0x7f),
+        SamplerKind::Stratified => RGBColor(0x1f, 0x77, 0xb4),
+        SamplerKind::Sobol => RGBColor(0x2c, 0xa0, 0x2c),
+        SamplerKind::Halton => RGBColor(0x94, 0x67, 0xbd),
+    }
+}
+
+/// Draws the log–log convergence plot of `points` (one line per sampler,
+/// labelled with its fitted slope, and a dashed `spp^-1/2` guide) into an
+/// 8-bit RGB buffer of `width × height`.
+pub fn plot_convergence(
+    points: &[Point],
+    samplers: &[SamplerKind],
+    title: &str,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>> {
+    fonts()?;
+    let xs = points.iter().map(|p| p.spp as f64);
+    let ys = points.iter().map(|p| p.rmse).filter(|&y| y > 0.0);
+    let (x0, x1) = xs.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    let (y0, y1) = ys.fold((f64::MAX, f64::MIN), |(a, b), y| (a.min(y), b.max(y)));
+    if !(x0 <= x1 && y0 <= y1) {
+        bail!("nothing to plot: no point has a positive RMSE");
+    }
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("plotting: {e:?}");
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(70)
+            .build_cartesian_2d(
+                (x0 / 1.5..x1 * 1.5).log_scale(),
+                (y0 / 1.5..y1 * 1.5).log_scale(),
+            )
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("samples per pixel")
+            .y_desc("RMSE")
+            .label_style(("sans-serif", 15))
+            .x_labels(12)
+            .y_labels(12)
+            .max_light_lines(0)
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()
+            .map_err(err)?;
+        for &s in samplers {
+            let line = series(points, s);
+            let Some(&(gx, gy)) = line.first() else {
+                continue;
+            };
+            let c = colour(s);
+            let label = match log_log_slope(&line) {
+                Some(k) => format!("{} (slope {k:.2})", s.name()),
+                None => s.name().to_string(),
+            };
+            chart
+                .draw_series(LineSeries::new(line.clone(), c.stroke_width(2)))
+                .map_err(err)?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                });
+            chart
+                .draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))
+                .map_err(err)?;
+            if s == SamplerKind::Independent {
+                // The Monte Carlo rate through the first independent point.
+                let guide = [(gx, gy), (x1, gy * (x1 / gx).powf(-0.5))];
+                chart
+                    .draw_series(DashedLineSeries::new(guide, 6, 4, BLACK.stroke_width(1)))
+                    .map_err(err)?
+                    .label("spp^-1/2")
+                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .label_font(("sans-serif", 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(buf)
+}
+
+/// Puts `panels` (each `width × height` linear RGB, sRGB-encoded here)
+/// side by side with `gap` pixels between them and a caption band under
+/// each holding its label; returns the 8-bit RGB buffer and its size.
+pub fn side_by_side(
+    panels: &[(&str, &[Vec3])],
+    width: u32,
+    height: u32,
+) -> Result<(Vec<u8>, u32, u32)> {
+    fonts()?;
+    const GAP: u32 = 6;
+    const BAND: u32 = 30;
+    let n = panels.len() as u32;
+    let (w, h) = (n * width + (n + 1) * GAP, height + GAP + BAND);
+    let mut buf = vec![255u8; w as usize * h as usize * 3];
+    for (i, (_, pixels)) in panels.iter().enumerate() {
+        assert_eq!(pixels.len(), (width * height) as usize);
+        let x0 = GAP + i as u32 * (width + GAP);
+        for y in 0..height {
+            for x in 0..width {
+                let p = pixels[(y * width + x) as usize];
+                let at = (((y + GAP) * w + x0 + x) * 3) as usize;
+                buf[at..at + 3].copy_from_slice(&[
+                    to_u8(p.x, Transfer::Srgb),
+                    to_u8(p.y, Transfer::Srgb),
+                    to_u8(p.z, Transfer::Srgb),
+                ]);
+            }
+        }
+    }
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("drawing labels: {e:?}");
+        let style = TextStyle::from(("sans-serif", 18)).color(&BLACK).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ),
+        );
+        for (i, (label, _)) in panels.iter().enumerate() {
+            let cx = GAP + i as u32 * (width + GAP) + width / 2;
+            let cy = GAP + height + BAND / 2;
+            root.draw_text(label, &style, (cx as i32, cy as i32))
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok((buf, w, h))
+}
+
+/// Writes an 8-bit RGB buffer as an sRGB PNG, atomically.
+pub fn write_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<()> {
+    let meta = [(
+        "Software".to_string(),
+        format!("strata {}", env!("CARGO_PKG_VERSION")),
+    )];
+    write_atomic(path, |tmp| {
+        write_png_rgb8(tmp, width, height, bytes, Transfer::Srgb, &meta)
+    })
+    .with_context(|| format!("writing `{}`", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_of_a_power_law() {
+        let pts: Vec<_> = [1.0, 4.0, 16.0, 64.0]
+            .iter()
+            .map(|&x: &f64| (x, 3.0 * x.powf(-0.75)))
+            .collect();
+        assert!((log_log_slope(&pts).unwrap() + 0.75).abs() < 1e-12);
+        assert_eq!(log_log_slope(&[(1.0, 1.0)]), None);
+        assert_eq!(log_log_slope(&[(1.0, 1.0), (2.0, 0.0)]), None);
+        assert_eq!(log_log_slope(&[(2.0, 1.0), (2.0, 3.0)]), None);
+    }
+
+    #[test]
+    fn rmse_counts_every_channel() {
+        let a = [Vec3::ZERO, Vec3::ZERO];
+        let b = [Vec3::new(3.0, 0.0, 0.0), Vec3::ZERO];
+        // One squared error of 9 over 6 values.
+        assert!((rmse(&a, &b) - 1.5f64.sqrt()).abs() < 1e-12);
+        assert_eq!(rmse(&b, &b), 0.0);
+    }
+
+    #[test]
+    fn reference_cache_round_trips_and_checks_its_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("r.ref");
+        let pixels = vec![Vec3::new(0.1, -2.0, f32::MAX), Vec3::splat(1e-30)];
+        write_reference(&path, "key a", &pixels).unwrap();
+        assert_eq!(read_reference(&path, "key a", 2), Some(pixels));
+        assert_eq!(read_reference(&path, "key b", 2), None);
+        assert_eq!(read_reference(&path, "key a", 3), None);
+        // Truncated by one byte.
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
+        assert_eq!(read_reference(&path, "key a", 2), None);
+    }
+
+    #[test]
+    fn side_by_side_places_panels_and_labels() {
+        let red = vec![Vec3::X; 20 * 10];
+        let blue = vec![Vec3::Z; 20 * 10];
+        let (buf, w, h) = side_by_side(&[("red", &red), ("blue", &blue)], 20, 10).unwrap();
+        assert_eq!((w, h), (2 * 20 + 3 * 6, 10 + 6 + 30));
+        let px = |x: u32, y: u32| {
+            let at = ((y * w + x) * 3) as usize;
+            [buf[at], buf[at + 1], buf[at + 2]]
+        };
+        assert_eq!(px(6, 6), [255, 0, 0]);
+        assert_eq!(px(6 + 20 + 6, 6), [0, 0, 255]);
+        assert_eq!(px(0, 0), [255, 255, 255]);
+        // Some dark label pixels in the band under each panel.
+        for x0 in [6, 32] {
+            let dark = (x0..x0 + 20)
+                .flat_map(|x| (16..h).map(move |y| (x, y)))
+                .filter(|&(x, y)| px(x, y)[0] < 128)
+                .count();
+            assert!(dark > 5, "no label under the panel at {x0}");
+        }
+    }
+}
