@@ -297,3 +297,68 @@ fn halton_is_stratified_in_its_bases() {
         }
     }
 }
+
+/// Later passes fit with earlier ones: indices `0..2·spp` of an
+/// Owen-scrambled Halton sampler fill the `2·spp` strata of base 2 (and
+/// `0..3·spp` the strata of base 3) once each, as one sequence would.
+#[test]
+fn halton_passes_continue_one_sequence() {
+    use strata::Halton;
+    for seed in 0..50u64 {
+        for (spp, dim, base, n) in [(4u32, 0usize, 2u32, 8u32), (3, 1, 3, 9), (8, 0, 2, 32)] {
+            let mut s = Halton::new(spp, seed).unwrap();
+            let mut cells = vec![0u32; n as usize];
+            for i in 0..n {
+                s.start_pixel_sample(UVec2::new(3, 8), i);
+                let p = s.pixel_2d();
+                let v = if dim == 0 { p.x } else { p.y };
+                cells[(v as f64 * n as f64) as usize] += 1;
+            }
+            assert!(
+                cells.iter().all(|&c| c == 1),
+                "seed {seed} spp {spp} base {base}: {cells:?}"
+            );
+        }
+    }
+}
+
+/// The (0,2)-sequence property of the first two Sobol' dimensions beyond
+/// the first block: every aligned block `[j·2^k, (j+1)·2^k)` of the 256
+/// samples of a pixel is a (0,k,2)-net, for the pixel pair and the lens
+/// pair.
+#[test]
+fn sobol_later_blocks_are_nets_too() {
+    use strata::Sobol;
+    const N: u32 = 256;
+    for seed in [0u64, 11] {
+        for pixel in PIXELS {
+            let mut s = Sobol::new(N, seed).unwrap();
+            let mut pts = [Vec::new(), Vec::new()];
+            for i in 0..N {
+                s.start_pixel_sample(pixel, i);
+                pts[0].push(s.pixel_2d());
+                pts[1].push(s.next_2d());
+            }
+            for (which, pts) in pts.iter().enumerate() {
+                for k in 1..=7u32 {
+                    let n = 1usize << k;
+                    for (j, block) in pts.chunks(n).enumerate() {
+                        for a in 0..=k {
+                            let (nx, ny) = (1u32 << a, 1u32 << (k - a));
+                            let mut cells = vec![0u32; n];
+                            for p in block {
+                                let cx = (p.x as f64 * nx as f64) as u32;
+                                let cy = (p.y as f64 * ny as f64) as u32;
+                                cells[(cy * nx + cx) as usize] += 1;
+                            }
+                            assert!(
+                                cells.iter().all(|&c| c == 1),
+                                "seed {seed} {pixel} set {which} block {j} of {n}: {nx}x{ny}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

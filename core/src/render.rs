@@ -27,3 +27,9 @@ pub use integrator::{
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, collect_lights};
 pub use texture::{ImageTexture, Texture, sphere_uv};
+
+/// The revision of what renders compute: raised whenever a change alters
+/// any pixel of any render (the value-stability lock in
+/// `tests/value_stability.rs` fails then, and says to raise it). Caches of
+/// rendered results (e.g. `strata converge`'s references) key on it.
+pub const OUTPUT_REVISION: u32 = 1;

@@ -639,10 +639,8 @@ const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
 /// 64 dimensions, enough for 10 bounces; beyond that the values are
 /// independent uniforms), each digit passed through a random permutation that
 /// depends on the digits before it (a nested, Owen scramble) and on
-/// `(seed, pixel, d)`. Below the digits that tell the samples apart, the
-/// value is a uniform point of its cell drawn from the nested key (what
-/// scrambling the index's zero digits gives), so the value uses the full
-/// precision of an `f32`.
+/// `(seed, pixel, d)`. Digits are scrambled down to `2⁻²⁵`, so the value
+/// uses the full precision of an `f32`.
 ///
 /// With `2^a · 3^b` samples the pixel positions fill a `2^a × 3^b` grid
 /// exactly once; every dimension alone is stratified in its base. Works
@@ -701,15 +699,19 @@ impl Halton {
             return u32_to_unit_f32((h >> 32) as u32);
         }
         let base = PRIMES[d as usize];
+        let inv = 1.0 / base as f64;
         let mut key = mix64(self.pixel_key ^ HALTON_SALT ^ d as u64);
-        // Scramble the digits that tell indices apart (as many as `spp - 1`
-        // has, or the index, if larger: a later pass), so that the first
-        // `base^n` indices sit in distinct cells of width `base^-n`.
-        // Owen-scrambling the zero digits below gives a uniform point of
-        // the cell: drawn at once from the nested key instead of digit by
-        // digit (the same distribution; 3-25 times fewer digit steps).
-        let (mut i, mut prefix, mut cells) = (self.index, 0u64, 1u64);
-        while cells < self.spp as u64 || i > 0 {
+        let (mut i, mut scale, mut v) = (self.index, inv, 0.0f64);
+        // The integer formed by the first `levels` scrambled digits, where
+        // base^levels ≤ 2^24: the f32 result must stay in that interval.
+        let (mut levels, mut cells) = (0u32, 1u64);
+        while cells * base as u64 <= 1 << 24 {
+            cells *= base as u64;
+            levels += 1;
+        }
+        let (mut prefix, mut k) = (0u64, 0u32);
+        // Digits of the index, then scrambled zeros, down to 2^-25.
+        while scale > 1.0 / 33_554_432.0 {
             let digit = i % base;
             i /= base;
             // In base 2 a random permutation of {0, 1} is a keyed bit flip.
@@ -718,21 +720,22 @@ impl Halton {
             } else {
                 permute(digit, base, (key >> 32) as u32)
             };
-            prefix = prefix * base as u64 + permuted as u64;
-            cells *= base as u64;
+            v += permuted as f64 * scale;
+            if k < levels {
+                prefix = prefix * base as u64 + permuted as u64;
+            }
+            k += 1;
             // The next digit's permutation depends on this one (nested): a
             // multiply-xorshift step, cheaper than a full mix per digit.
             key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
             key ^= key >> 29;
+            scale *= inv;
         }
-        // cells ≤ base · 2^32 < 2^41: prefix and cells are exact in f64.
-        let tail = (mix64(key) >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0);
-        let v = (prefix as f64 + tail) / cells as f64;
-        // Rounding to f32 may cross the cell's edge: step back in, checking
-        // ⌊f · cells⌋ exactly in integers.
+        // Rounding to f32 may cross a cell boundary by an ulp: step back in.
+        // f · cells is exact in f64 (24 + 24 bits).
         let mut f = (v as f32).min(crate::rng::ONE_MINUS_EPSILON);
         for _ in 0..4 {
-            let cell = cell_of(f, cells);
+            let cell = (f as f64 * cells as f64) as u64; // ≥ 0: truncation floors
             if cell > prefix {
                 f = f32::from_bits(f.to_bits() - 1);
             } else if cell < prefix {
@@ -743,23 +746,6 @@ impl Halton {
         }
         f
     }
-}
-
-/// `⌊f · cells⌋`, exactly, for `f` in `[0, 1)` and `cells < 2^41`.
-fn cell_of(f: f32, cells: u64) -> u64 {
-    let bits = f.to_bits();
-    let exp = (bits >> 23) & 0xff;
-    if exp == 0 {
-        // Zero or subnormal: below any cell width here.
-        return 0;
-    }
-    // f = m · 2^(exp − 150) with a 24-bit m; m · cells < 2^65.
-    let m = (bits & 0x7f_ffff | 0x80_0000) as u128;
-    let shift = 150 - exp; // ≥ 24 since f < 1
-    if shift >= 128 {
-        return 0;
-    }
-    ((m * cells as u128) >> shift) as u64
 }
 
 hashed_sampler!(Halton, no_align);

@@ -106,8 +106,10 @@ impl View<'_> {
     fn reference_key(&self, spp: u32) -> String {
         let w = self.window;
         format!(
-            "strata {} scene {:016x} size {}x{} window {},{} {}x{} depth {} reference sobol {} spp seed {}",
+            "strata {} output revision {} scene {:016x} size {}x{} window {},{} {}x{} depth {} \
+             direct lighting on, reference sobol {} spp seed {}",
             env!("CARGO_PKG_VERSION"),
+            strata::render::OUTPUT_REVISION,
             self.scene.content_hash(),
             self.width,
             self.height,
@@ -407,15 +409,22 @@ pub fn side_by_side(
     const GAP: u32 = 6;
     const BAND: u32 = 30;
     let n = panels.len() as u32;
-    let (w, h) = (n * width + (n + 1) * GAP, height + GAP + BAND);
-    let mut buf = vec![255u8; w as usize * h as usize * 3];
+    let w = n
+        .checked_mul(width + GAP)
+        .and_then(|x| x.checked_add(GAP))
+        .filter(|&w| w <= 1 << 16)
+        .ok_or_else(|| anyhow::anyhow!("{n} panels of width {width} make too wide an image"))?;
+    let h = height + GAP + BAND;
+    let (wu, gap) = (w as usize, GAP as usize);
+    let mut buf = vec![255u8; wu * h as usize * 3];
     for (i, (_, pixels)) in panels.iter().enumerate() {
-        assert_eq!(pixels.len(), (width * height) as usize);
-        let x0 = GAP + i as u32 * (width + GAP);
-        for y in 0..height {
-            for x in 0..width {
-                let p = pixels[(y * width + x) as usize];
-                let at = (((y + GAP) * w + x0 + x) * 3) as usize;
+        let (pw, ph) = (width as usize, height as usize);
+        assert_eq!(pixels.len(), pw * ph);
+        let x0 = gap + i * (pw + gap);
+        for y in 0..ph {
+            for x in 0..pw {
+                let p = pixels[y * pw + x];
+                let at = ((y + gap) * wu + x0 + x) * 3;
                 buf[at..at + 3].copy_from_slice(&[
                     to_u8(p.x, Transfer::Srgb),
                     to_u8(p.y, Transfer::Srgb),

@@ -572,7 +572,7 @@ fn converge_writes_csv_and_plot_and_caches_its_reference() {
         "--samplers",
         "independent,sobol",
         "--reference-spp",
-        "1024",
+        "4096",
         "--cache-dir",
         "cache",
         "--csv",
@@ -612,7 +612,7 @@ fn converge_writes_csv_and_plot_and_caches_its_reference() {
     // Again: the reference comes from the cache, and the numbers repeat.
     let second = ok(d, &args);
     assert!(
-        second.contains("reference: sobol 1024 spp, cached"),
+        second.contains("reference: sobol 4096 spp, cached"),
         "{second}"
     );
     assert_eq!(std::fs::read_to_string(d.join("c.csv")).unwrap(), csv);
@@ -674,10 +674,10 @@ fn studies_refuse_bad_flags_before_work() {
     let c = ["converge", "--cache-dir", "cache", "--width", "32"];
     let with = |extra: &[&'static str]| [&c[..], extra].concat();
     for (extra, says) in [
-        (&["--reference-spp", "512"][..], "at least 4 x 256"),
+        (&["--reference-spp", "2048"][..], "at least 16 x 256"),
         (
-            &["--with-1024", "--reference-spp", "2048"],
-            "at least 4 x 1024",
+            &["--with-1024", "--reference-spp", "8192"],
+            "at least 16 x 1024",
         ),
         (&["--pixel-bounds", "0,40,0,5"], "outside the 32x18 image"),
         (&["--pixel-bounds", "5,5,0,5"], "empty"),
