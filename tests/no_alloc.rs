@@ -125,6 +125,7 @@ fn allocations_do_not_grow_with_samples() {
                 threads: 2,
                 tile: 16,
                 direct_lighting: true,
+                bvh: strata_runner::scenes::BvhMode::Auto,
             };
             // Once to warm up the thread pool's lazy state, then measured.
             run(&job, &|_| {}).unwrap();

@@ -25,7 +25,7 @@ pub use integrator::{
     RenderError, RenderSettings, Tile, TileStats, pixel_sample, power_heuristic, render_tile,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
-pub use scene::{Background, Scene, SceneError, collect_lights};
+pub use scene::{BVH_THRESHOLD, Background, Scene, SceneError, collect_lights};
 pub use texture::{ImageTexture, Texture, sphere_uv};
 
 /// The revision of what renders compute: raised whenever a change alters

@@ -69,9 +69,14 @@
 
 use glam::Vec3;
 
+mod bvh;
 mod lanes;
 mod packet;
 
+pub use bvh::{
+    BVH_LEAF_MAX, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SAH_DEPTH,
+    BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStorage, bvh_storage_for,
+};
 use lanes::Lanes;
 pub use packet::{
     HitPacket8, RayPacket8, SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, any_hit_x8,

@@ -546,6 +546,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             threads,
             tile: 16,
             direct_lighting: true,
+            bvh: crate::scenes::BvhMode::Auto,
         };
         let probe = run(&job(1), &|_| {})?;
         let paths = probe.stats.paths as f64;

@@ -15,7 +15,7 @@ use strata::render::Tile;
 use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic, write_image};
 use crate::render::{Job, SamplerKind, run};
 use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
-use crate::scenes::{BUILT_IN, SceneData, built_in};
+use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
 
 /// Deterministic sampling and ray tracing of sphere scenes.
 #[derive(Debug, Parser)]
@@ -511,6 +511,10 @@ pub struct RenderArgs {
     /// Turn off direct lighting from sphere lights (BSDF sampling only).
     #[arg(long)]
     pub no_direct_lighting: bool,
+    /// Trace through a BVH: auto (from 16 spheres), on or off. Changes
+    /// speed, never the image.
+    #[arg(long, value_enum, default_value_t = BvhMode::Auto)]
+    pub bvh: BvhMode,
     /// Output file, .png (8-bit) or .exr (linear float) [default: SCENE.png].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -586,6 +590,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         threads: args.threads as usize,
         tile: args.tile,
         direct_lighting: !args.no_direct_lighting,
+        bvh: args.bvh,
     };
     let bar = if std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(width as u64 * height as u64);

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile};
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
 
-use crate::scenes::SceneData;
+use crate::scenes::{BvhMode, SceneData};
 
 /// The pixel samplers the command line offers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -80,6 +80,8 @@ pub struct Job<'a> {
     pub tile: u32,
     /// Next-event estimation from sphere lights.
     pub direct_lighting: bool,
+    /// Whether to trace through a BVH.
+    pub bvh: BvhMode,
 }
 
 /// The window of every pixel of a `width × height` image.
@@ -147,7 +149,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         .build()
         .context("cannot start the worker threads")?;
     let start = Instant::now();
-    let films = data.with_scene(|scene| {
+    let films = data.with_scene_bvh(job.bvh, |scene| {
         pool.install(|| match job.sampler {
             SamplerKind::Independent => render_all(
                 job,

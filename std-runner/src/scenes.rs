@@ -4,11 +4,14 @@
 //! texture).
 
 use glam::Vec3;
+use strata::render::BVH_THRESHOLD;
 use strata::render::{
     Background, CameraDesc, ImageTexture, Material, Scene, Texture, collect_lights,
 };
 use strata::rng::{Pcg32, next_f32};
-use strata::trace::{Sphere, SphereChunk8, SphereSet, chunks_for};
+use strata::trace::{
+    Bvh, BvhError, BvhNode8, Sphere, SphereChunk8, SphereSet, bvh_storage_for, chunks_for,
+};
 
 use crate::workload::{course_spheres, cover_spheres};
 
@@ -21,6 +24,18 @@ pub struct Image {
     pub height: u32,
     /// `width × height` linear RGB values, row-major.
     pub texels: Vec<Vec3>,
+}
+
+/// Whether a scene is traced through a BVH (it never changes a pixel).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum BvhMode {
+    /// From [`BVH_THRESHOLD`] spheres.
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never (brute force).
+    Off,
 }
 
 /// What a scene renders at when the command line does not say.
@@ -113,6 +128,15 @@ impl SceneData {
     /// Builds the core's view of the scene (8-wide sphere chunks, the
     /// materials with their images, the light list) and hands it to `f`.
     pub fn with_scene<R>(&self, f: impl FnOnce(&Scene<'_>) -> R) -> anyhow::Result<R> {
+        self.with_scene_bvh(BvhMode::Auto, f)
+    }
+
+    /// [`SceneData::with_scene`], with the BVH chosen by `mode`.
+    pub fn with_scene_bvh<R>(
+        &self,
+        mode: BvhMode,
+        f: impl FnOnce(&Scene<'_>) -> R,
+    ) -> anyhow::Result<R> {
         let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(self.spheres.len())];
         let set =
             SphereSet::build(&self.spheres, &mut chunks).map_err(|e| anyhow::anyhow!("{e:?}"))?;
@@ -129,7 +153,35 @@ impl SceneData {
             self.background,
         )
         .map_err(|e| anyhow::anyhow!("scene `{}` is invalid: {e:?}", self.name))?;
-        Ok(f(&scene))
+        if !self.use_bvh(mode) {
+            return Ok(f(&scene));
+        }
+        let size = bvh_storage_for(self.spheres.len());
+        let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+        let mut lanes = vec![0.0f32; size.lanes];
+        let mut ids = vec![0u32; size.ids];
+        match Bvh::build(&self.spheres, &mut nodes, &mut lanes, &mut ids) {
+            Ok(bvh) => {
+                let scene = scene
+                    .with_bvh(bvh)
+                    .map_err(|e| anyhow::anyhow!("scene `{}`: BVH {e:?}", self.name))?;
+                Ok(f(&scene))
+            }
+            // Coordinates beyond the BVH's range: brute force is exact
+            // there too, only slower.
+            Err(BvhError::SphereOutOfRange { .. }) => Ok(f(&scene)),
+            Err(e) => Err(anyhow::anyhow!("scene `{}`: BVH {e:?}", self.name)),
+        }
+    }
+
+    /// Whether the scene is traced through a BVH under `mode`: `Auto`
+    /// from [`BVH_THRESHOLD`] spheres. Pixels are the same either way.
+    pub fn use_bvh(&self, mode: BvhMode) -> bool {
+        match mode {
+            BvhMode::Auto => self.spheres.len() >= BVH_THRESHOLD,
+            BvhMode::On => true,
+            BvhMode::Off => false,
+        }
     }
 
     /// The materials with image textures attached, borrowing the texels.

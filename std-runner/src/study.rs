@@ -93,6 +93,7 @@ impl View<'_> {
             threads: self.threads,
             tile: 16,
             direct_lighting: true,
+            bvh: crate::scenes::BvhMode::Auto,
         };
         Ok(run(&job, &|_| {})?
             .pixels

@@ -6,7 +6,8 @@
 //! sampler.start_pixel_sample(pixel, index)
 //! ray = camera.ray(pixel, sampler.pixel_2d(), sampler.next_2d())   dims 0-1, 2-3
 //! for segment 1..=max_depth:
-//!     closest hit (camera rays: 8-ray packets; the rest: 1 ray × 8 spheres)
+//!     closest hit (camera rays: 8-ray packets; the rest: one ray at a
+//!     time; through the scene's BVH if it has one, else 8 spheres a step)
 //!     miss      -> add background, stop
 //!     emitter   -> add emission (MIS-weighted after a smooth bounce), stop
 //!     last segment -> stop (no direct light whose BSDF twin is not traced)
@@ -30,7 +31,7 @@
 //!
 //! **Direct lighting** picks one light uniformly, samples the cone its
 //! sphere subtends ([`sample_uniform_cone`]), and traces a shadow ray
-//! ([`any_hit_1x8`]) that stops at the light: one blocker is enough and
+//! ([`Scene::any_hit`]) that stops at the light: one blocker is enough and
 //! nothing beyond the light counts (the course's D1 counted hits). BSDF
 //! samples that hit a light are weighted against it by the power
 //! heuristic, so no emission is counted twice (the course's D7).
@@ -52,10 +53,7 @@ use super::texture::sphere_uv;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
 use crate::onb::Onb;
 use crate::sampler::Sampler;
-use crate::trace::{
-    Hit, HitPacket8, Ray, RayPacket8, any_hit_1x8, closest_hit_1x8, closest_hit_x8,
-    intersect_sphere,
-};
+use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, intersect_sphere};
 
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -202,7 +200,7 @@ fn direct_light(
         return Vec3::ZERO; // grazed the rim by rounding
     };
     stats.shadow_rays += 1;
-    if any_hit_1x8(&shadow.with_range(0.0, t_light), scene.set()) {
+    if scene.any_hit(&shadow.with_range(0.0, t_light)) {
         return Vec3::ZERO;
     }
     let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
@@ -232,7 +230,7 @@ fn trace_path<S: Sampler>(
     for segment in 1..=settings.max_depth {
         stats.rays += 1;
         if segment > 1 {
-            hit = closest_hit_1x8(&ray, scene.set());
+            hit = scene.closest_hit(&ray);
         }
         let Some(h) = hit else {
             radiance += throughput * scene.background().radiance(ray.dir);
@@ -322,7 +320,7 @@ pub fn pixel_sample<S: Sampler>(
     index: u32,
 ) -> Vec3 {
     let ray = camera_ray(camera, sampler, pixel, index);
-    let first = closest_hit_1x8(&ray, scene.set());
+    let first = scene.closest_hit(&ray);
     trace_path(
         scene,
         sampler,
@@ -385,7 +383,7 @@ pub fn render_tile<S: Sampler + Clone>(
                     *r = camera_ray(camera, s, UVec2::new(tile.x0 + col + l as u32, y), index);
                 }
                 let mut hits = HitPacket8::NONE;
-                closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), scene.set(), &mut hits);
+                scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), &mut hits);
                 for l in 0..n {
                     let v = trace_path(
                         scene,

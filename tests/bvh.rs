@@ -1,0 +1,376 @@
+//! The BVH only skips work: on millions of random rays over random scenes
+//! (1 to 10 000 spheres, coincident and overlapping spheres, radius 0 and
+//! 1000, all centres at one point, rays from inside, grazing and tangent
+//! rays), its closest and any hits equal the brute-force kernels bit for
+//! bit, for one ray and for packets (traversed as packets, per ray, and
+//! mixed). Storage too small is an error; degenerate input builds within
+//! the depth bound.
+
+use glam::Vec3;
+use rand_core::Rng;
+use rand_pcg::Pcg32;
+use strata::trace::{
+    BVH_MAX_DEPTH, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, HitPacket8, Ray, RayPacket8, Sphere,
+    any_hit, bvh_storage_for, closest_hit, intersect_sphere,
+};
+
+fn uniform(rng: &mut Pcg32) -> f32 {
+    (rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+fn range(rng: &mut Pcg32, lo: f32, hi: f32) -> f32 {
+    lo + (hi - lo) * uniform(rng)
+}
+
+fn unit(rng: &mut Pcg32) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            range(rng, -1.0, 1.0),
+            range(rng, -1.0, 1.0),
+            range(rng, -1.0, 1.0),
+        );
+        let l = v.length_squared();
+        if l > 1e-4 && l <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// Owned storage and the tree over it.
+struct Owned {
+    nodes: Vec<BvhNode8>,
+    lanes: Vec<f32>,
+    ids: Vec<u32>,
+}
+
+impl Owned {
+    fn new(n: usize) -> Self {
+        let s = bvh_storage_for(n);
+        Self {
+            nodes: vec![BvhNode8::EMPTY; s.nodes],
+            lanes: vec![0.0; s.lanes],
+            ids: vec![0; s.ids],
+        }
+    }
+    fn build<'a>(&'a mut self, spheres: &[Sphere]) -> Bvh<'a> {
+        Bvh::build(spheres, &mut self.nodes, &mut self.lanes, &mut self.ids).unwrap()
+    }
+}
+
+/// The scenes: (name, spheres).
+fn scenes() -> Vec<(String, Vec<Sphere>)> {
+    let mut rng = Pcg32::new(2026, 8);
+    let mut out = Vec::new();
+    for n in [1usize, 7, 8, 9, 100, 10_000] {
+        let spheres: Vec<Sphere> = (0..n)
+            .map(|_| {
+                let c = Vec3::new(
+                    range(&mut rng, -10.0, 10.0),
+                    range(&mut rng, -10.0, 10.0),
+                    range(&mut rng, -10.0, 10.0),
+                );
+                Sphere::new(c, range(&mut rng, 0.0, 2.0 / (n as f32).cbrt()))
+            })
+            .collect();
+        out.push((format!("random {n}"), spheres));
+    }
+    // Coincident, overlapping, radius 0 and 1000, NaN radius, a ground.
+    let mut mixed = Vec::new();
+    for k in 0..300 {
+        let c = Vec3::new(
+            range(&mut rng, -5.0, 5.0),
+            range(&mut rng, 0.0, 2.0),
+            range(&mut rng, -5.0, 5.0),
+        );
+        let r = match k % 10 {
+            0 => 0.0,
+            1 => f32::NAN,
+            _ => range(&mut rng, 0.05, 0.8),
+        };
+        mixed.push(Sphere::new(c, r));
+        if k % 7 == 0 {
+            mixed.push(Sphere::new(c, r)); // coincident duplicate
+        }
+    }
+    mixed.push(Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0));
+    mixed.push(Sphere::new(Vec3::new(3.0, 1.0, 0.0), 1000.0));
+    out.push(("mixed".into(), mixed));
+    // Every centre at one point, radii varied.
+    let same: Vec<Sphere> = (0..500)
+        .map(|k| Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.01 + (k % 37) as f32 * 0.05))
+        .collect();
+    out.push(("one centre".into(), same));
+    // The cover layout.
+    out.push(("cover".into(), strata_runner::workload::cover_spheres()));
+    out
+}
+
+/// Rays for a scene: from a box around it, from sphere centres (inside),
+/// and grazing/tangent rays aimed at sphere silhouettes.
+fn rays(spheres: &[Sphere], n: usize, rng: &mut Pcg32) -> Vec<Ray> {
+    let hittable: Vec<&Sphere> = spheres.iter().filter(|s| s.radius > 0.0).collect();
+    (0..n)
+        .map(|k| {
+            let kind = k % 6;
+            if kind == 0 || hittable.is_empty() {
+                let o = Vec3::new(
+                    range(rng, -14.0, 14.0),
+                    range(rng, -14.0, 14.0),
+                    range(rng, -14.0, 14.0),
+                );
+                return Ray::new(o, unit(rng));
+            }
+            let s = hittable[(rng.next_u32() as usize) % hittable.len()];
+            match kind {
+                1 => Ray::new(s.center, unit(rng)),
+                4 | 5 => {
+                    // Tangent where the sphere touches its box: at the
+                    // extreme point along an axis, moving in the box face
+                    // (along an axis, for kind 5), nudged by ulps.
+                    let axis = (rng.next_u32() % 3) as usize;
+                    let sign = if rng.next_u32() & 1 == 0 { 1.0 } else { -1.0 };
+                    let mut n = Vec3::ZERO;
+                    n[axis] = sign;
+                    let mut d = unit(rng);
+                    d[axis] = 0.0;
+                    if kind == 5 {
+                        d = Vec3::ZERO;
+                        d[(axis + 1) % 3] = sign;
+                    }
+                    let d = d.normalize_or(Vec3::X);
+                    let nudge = 1.0 + range(rng, -3.0, 3.0) * f32::EPSILON;
+                    let target = s.center + n * s.radius * nudge;
+                    Ray::new(target - d * range(rng, 0.1, 30.0), d)
+                }
+                _ => {
+                    // Aim at a point on the silhouette (tangent), nudged
+                    // by a few ulps in or out.
+                    let d = unit(rng);
+                    let side = d.any_orthonormal_vector();
+                    let nudge = 1.0 + range(rng, -4.0, 4.0) * f32::EPSILON;
+                    let target = s.center + side * s.radius * nudge;
+                    let o = target - d * range(rng, 0.5, 30.0);
+                    let r = Ray::new(o, d);
+                    if kind == 3 {
+                        r.with_range(range(rng, -1.0, 1.0), range(rng, 1.0, 60.0))
+                    } else {
+                        r
+                    }
+                }
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn bvh_matches_brute_force_bit_for_bit() {
+    let mut rng = Pcg32::new(7, 7);
+    let mut total = 0;
+    for (name, spheres) in scenes() {
+        let mut store = Owned::new(spheres.len());
+        let bvh = store.build(&spheres);
+        assert!(bvh.depth() <= BVH_MAX_DEPTH, "{name}");
+        assert!(bvh.node_count() <= bvh_storage_for(spheres.len()).nodes);
+        // Fewer rays for the big scene: brute force is the slow side.
+        let n = if spheres.len() > 1000 {
+            40_000
+        } else {
+            160_000
+        };
+        let rays = rays(&spheres, n, &mut rng);
+        for (k, ray) in rays.iter().enumerate() {
+            let want = closest_hit(ray, &spheres);
+            let got = bvh.closest_hit(ray);
+            let bits = |h: Option<strata::trace::Hit>| h.map(|h| (h.sphere, h.t.to_bits()));
+            assert_eq!(bits(got), bits(want), "{name} ray {k}: {ray:?}");
+            assert_eq!(
+                bvh.any_hit(ray),
+                any_hit(ray, &spheres),
+                "{name} ray {k}: {ray:?}"
+            );
+        }
+        // Packets: as packets, with per-ray fallback at 2, and all per ray;
+        // a partial last packet and a preset hit in lane 0.
+        for chunk in rays.chunks(8).take(n / 16) {
+            let packet = RayPacket8::from_rays(chunk);
+            for fallback in [0, 2, 8] {
+                let mut hits = HitPacket8::NONE;
+                bvh.closest_hit_x8(&packet, &mut hits, fallback);
+                for (lane, ray) in chunk.iter().enumerate() {
+                    assert_eq!(
+                        hits.hit(lane),
+                        closest_hit(ray, &spheres),
+                        "{name} x8/{fallback}"
+                    );
+                }
+            }
+            let mut want = 0;
+            for (lane, ray) in chunk.iter().enumerate() {
+                want |= (any_hit(ray, &spheres) as u32) << lane;
+            }
+            assert_eq!(bvh.any_hit_x8(&packet), want, "{name}");
+        }
+        total += rays.len();
+    }
+    assert!(total >= 1_000_000, "{total} rays");
+}
+
+/// Ties: identical spheres give the lowest index, whichever leaf holds it.
+#[test]
+fn ties_go_to_the_lowest_index() {
+    let mut spheres = vec![Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0); 40];
+    // Unhittable spheres first, so the lowest hittable index is 3.
+    spheres[0].radius = 0.0;
+    spheres[1].radius = -1.0;
+    spheres[2].radius = f32::NAN;
+    let mut store = Owned::new(spheres.len());
+    let bvh = store.build(&spheres);
+    let hit = bvh.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
+    assert_eq!((hit.sphere, hit.t), (3, 4.0));
+    let mut hits = HitPacket8::NONE;
+    bvh.closest_hit_x8(
+        &RayPacket8::from_rays(&[Ray::new(Vec3::ZERO, -Vec3::Z)]),
+        &mut hits,
+        0,
+    );
+    assert_eq!(hits.hit(0).unwrap().sphere, 3);
+}
+
+/// The kernel's hit point stays within the slack the boxes are padded
+/// by, with a margin of 4 (the assumption that makes the BVH exact).
+#[test]
+fn kernel_hit_points_stay_within_the_box_slack() {
+    let mut rng = Pcg32::new(3, 1);
+    let mut worst = 0.0f64;
+    for k in 0..2_000_000u32 {
+        let r = match k % 3 {
+            0 => range(&mut rng, 0.01, 1.0),
+            1 => range(&mut rng, 1.0, 1000.0),
+            _ => range(&mut rng, 1e-4, 0.01),
+        };
+        let scale = [1.0f32, 100.0, 10_000.0][(k / 3 % 3) as usize];
+        let c = Vec3::new(
+            range(&mut rng, -scale, scale),
+            range(&mut rng, -scale, scale),
+            range(&mut rng, -scale, scale),
+        );
+        let s = Sphere::new(c, r);
+        let d = unit(&mut rng);
+        let side = d.any_orthonormal_vector();
+        let nudge = 1.0 + range(&mut rng, -64.0, 64.0) * f32::EPSILON;
+        let dist = range(&mut rng, 0.0, 4.0) * (r + scale);
+        let o = c + side * r * nudge - d * dist;
+        let ray = Ray::new(o, d);
+        if let Some(t) = intersect_sphere(&ray, &s) {
+            let p = o.as_dvec3() + d.as_dvec3() * t as f64;
+            let excess = (p - c.as_dvec3()).length() - r as f64;
+            let l1 = |v: Vec3| (v.x.abs() + v.y.abs() + v.z.abs()) as f64;
+            let slack =
+                BVH_SLACK_ULPS as f64 * f32::EPSILON as f64 / 2.0 * (l1(o) + l1(c) + r as f64);
+            worst = worst.max(excess / slack);
+        }
+    }
+    println!("worst hit-point excess: {worst:.4} of the slack");
+    assert!(worst < 0.25, "hit points reach {worst} of the box slack");
+}
+
+#[test]
+fn storage_too_small_is_an_error_and_writes_nothing() {
+    let spheres: Vec<Sphere> = (0..100)
+        .map(|i| Sphere::new(Vec3::new(i as f32, 0.0, 0.0), 0.5))
+        .collect();
+    let need = bvh_storage_for(100);
+    for (dn, dl, di, slice) in [(1, 0, 0, "nodes"), (0, 1, 0, "lanes"), (0, 0, 1, "ids")] {
+        let mut nodes = vec![BvhNode8::EMPTY; need.nodes - dn];
+        let mut lanes = vec![7.0; need.lanes - dl];
+        let mut ids = vec![9; need.ids - di];
+        match Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids) {
+            Err(BvhError::StorageTooSmall { slice: s, .. }) => assert_eq!(s, slice),
+            other => panic!("{slice}: {other:?}"),
+        }
+        assert!(lanes.iter().all(|&x| x == 7.0) && ids.iter().all(|&x| x == 9));
+    }
+    let mut store = Owned::new(1);
+    let bad = [Sphere::new(Vec3::new(f32::INFINITY, 0.0, 0.0), 1.0)];
+    assert_eq!(
+        Bvh::build(&bad, &mut store.nodes, &mut store.lanes, &mut store.ids).err(),
+        Some(BvhError::SphereOutOfRange { index: 0 })
+    );
+    // No spheres: an empty tree that hits nothing.
+    let mut store = Owned::new(0);
+    let bvh = store.build(&[]);
+    assert_eq!(bvh.closest_hit(&Ray::new(Vec3::ZERO, Vec3::X)), None);
+}
+
+/// Degenerate input still builds within the depth bound: 100 000 spheres
+/// at one point, and a line of spheres with exponentially growing radii.
+#[test]
+fn degenerate_input_builds_within_the_depth_bound() {
+    let same = vec![Sphere::new(Vec3::ONE, 0.5); 100_000];
+    let mut store = Owned::new(same.len());
+    let bvh = store.build(&same);
+    assert!(bvh.depth() <= BVH_MAX_DEPTH, "depth {}", bvh.depth());
+    let ray = Ray::new(Vec3::new(1.0, 1.0, 5.0), -Vec3::Z);
+    assert_eq!(bvh.closest_hit(&ray), closest_hit(&ray, &same));
+    let line: Vec<Sphere> = (0..3000)
+        .map(|i| {
+            let x = 1.01f32.powi(i);
+            Sphere::new(Vec3::new(x, 0.0, 0.0), x * 0.001)
+        })
+        .collect();
+    let mut store = Owned::new(line.len());
+    let bvh = store.build(&line);
+    assert!(bvh.depth() <= BVH_MAX_DEPTH, "depth {}", bvh.depth());
+    assert!(bvh.node_count() <= bvh_storage_for(line.len()).nodes);
+}
+
+/// The tree depends only on the input: two builds give the same answers
+/// and the same shape.
+#[test]
+fn builds_are_deterministic() {
+    let spheres = strata_runner::workload::cover_spheres();
+    let mut a = Owned::new(spheres.len());
+    let mut b = Owned::new(spheres.len());
+    {
+        let (ta, tb) = (a.build(&spheres), b.build(&spheres));
+        assert_eq!((ta.node_count(), ta.depth()), (tb.node_count(), tb.depth()));
+    }
+    assert_eq!(a.ids, b.ids);
+    assert_eq!(
+        a.lanes.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        b.lanes.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+    );
+}
+
+/// Renders are bit-identical with the BVH on and off: every built-in
+/// scene (the BVH forced on the small ones too), every sampler kind, 2
+/// threads.
+#[test]
+fn renders_are_identical_with_and_without_the_bvh() {
+    use strata_runner::render::{Job, SamplerKind, run, whole};
+    use strata_runner::scenes::{BUILT_IN, BvhMode, built_in};
+    for name in BUILT_IN {
+        let scene = built_in(name).unwrap();
+        for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+            let job = |bvh| Job {
+                scene: &scene,
+                width: 64,
+                height: 36,
+                window: whole(64, 36),
+                spp: 4,
+                samples: 0..4,
+                max_depth: 50,
+                sampler,
+                seed: 3,
+                threads: 2,
+                tile: 16,
+                direct_lighting: true,
+                bvh,
+            };
+            let on = run(&job(BvhMode::On), &|_| {}).unwrap();
+            let off = run(&job(BvhMode::Off), &|_| {}).unwrap();
+            assert_eq!(on.pixels, off.pixels, "{name} {sampler:?}");
+            assert_eq!(on.stats.rays, off.stats.rays, "{name}");
+        }
+    }
+}
