@@ -530,6 +530,150 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
     Ok(())
 }
 
+/// Rays per second per core the BVH must reach on the cover scene, and
+/// camera paths per second of the 2-thread cover render: (comparison,
+/// contender, target M/s).
+const BVH_GOALS: [(&str, &str, f64); 3] = [
+    ("bvh closest/cover_incoherent", "bvh", 25.0),
+    ("bvh closest/cover_camera_720p", "bvh", 40.0),
+    ("render/cover_400x225_32spp", "2 threads", 12.0),
+];
+
+fn absolute_goals(figures: &[Figure]) -> Vec<Goal> {
+    BVH_GOALS
+        .iter()
+        .filter_map(|&(comparison, name, target)| {
+            let f = figures
+                .iter()
+                .find(|f| f.comparison == comparison && f.name == name)?;
+            Some(Goal {
+                name: format!("{comparison} {name} M {}/s", f.unit),
+                target,
+                measured: f.mega_per_s.median,
+                pass: f.mega_per_s.median >= target,
+            })
+        })
+        .collect()
+}
+
+/// The BVH against the brute-force 8-wide loop, one ray at a time and in
+/// packets: closest and any hit on the cover layout (camera rays of the
+/// cover camera at 1280 × 720; 10⁶ incoherent rays from
+/// `[-11, 11] × [0, 2] × [-11, 11]`, directions uniform on the sphere) and
+/// on 10 000 random spheres (10⁶ incoherent rays from their box); then the
+/// build time of 10⁶ spheres. Brute force traces the first 20 000 rays of
+/// the 10 000-sphere workload (rates are per ray).
+fn bvh(s: &mut Suite<'_>) -> Result<()> {
+    use crate::workload::{
+        COVER_VIEW, camera_rays, cover_spheres, random_rays, random_spheres_10k,
+    };
+    let (lo, hi) = crate::workload::ray_box(true);
+    let workloads = [
+        (
+            "cover_camera_720p",
+            cover_spheres(),
+            camera_rays(COVER_VIEW, 1280, 720),
+        ),
+        (
+            "cover_incoherent",
+            cover_spheres(),
+            random_rays(1_000_000, lo, hi, 12),
+        ),
+        (
+            "random10k_incoherent",
+            random_spheres_10k(),
+            random_rays(1_000_000, Vec3::splat(-20.0), Vec3::splat(20.0), 13),
+        ),
+    ];
+    for (name, spheres, rays) in &workloads {
+        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
+        let set = SphereSet::build(spheres, &mut chunks).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let size = bvh_storage_for(spheres.len());
+        let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+        let mut lanes = vec![0.0f32; size.lanes];
+        let mut ids = vec![0u32; size.ids];
+        let tree = Bvh::build(spheres, &mut nodes, &mut lanes, &mut ids)
+            .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let brute = &rays[..rays.len().min(if spheres.len() > 1000 {
+            20_000
+        } else {
+            rays.len()
+        })];
+        let packets: Vec<RayPacket8> = rays.chunks(8).map(RayPacket8::from_rays).collect();
+        let (set, tree, packets) = (&set, &tree, &packets);
+        let n = rays.len() as f64;
+        let closest = |r: Option<Hit>| r.map_or(0, |h| h.sphere as u64);
+        s.compare(
+            "bvh",
+            &format!("bvh closest/{name}"),
+            "rays",
+            vec![
+                contender("brute 1x8", brute.len() as f64, || {
+                    brute.iter().map(|r| closest(closest_hit_1x8(r, set))).sum()
+                }),
+                contender("bvh", n, || {
+                    rays.iter().map(|r| closest(tree.closest_hit(r))).sum()
+                }),
+                contender("bvh packet", n, || {
+                    packets.iter().fold(0u64, |a, p| {
+                        let mut h = HitPacket8::NONE;
+                        tree.closest_hit_x8(p, &mut h, 0);
+                        a + h.sphere.to_array()[0] as u64
+                    })
+                }),
+                contender("bvh packet, fallback 2", n, || {
+                    packets.iter().fold(0u64, |a, p| {
+                        let mut h = HitPacket8::NONE;
+                        tree.closest_hit_x8(p, &mut h, 2);
+                        a + h.sphere.to_array()[0] as u64
+                    })
+                }),
+            ],
+            true,
+        )?;
+        s.compare(
+            "bvh",
+            &format!("bvh any/{name}"),
+            "rays",
+            vec![
+                contender("brute 1x8", brute.len() as f64, || {
+                    brute.iter().filter(|r| any_hit_1x8(r, set)).count() as u64
+                }),
+                contender("bvh", n, || {
+                    rays.iter().filter(|r| tree.any_hit(r)).count() as u64
+                }),
+            ],
+            true,
+        )?;
+    }
+    // Build time of 10⁶ spheres (the random layout, scaled up).
+    let mut rng = Pcg32::new(1_000_000, STREAM);
+    let million: Vec<Sphere> = (0..1_000_000)
+        .map(|_| {
+            let mut f = || next_f32(&mut rng);
+            Sphere::new(
+                Vec3::new(f(), f(), f()) * 200.0 - Vec3::splat(100.0),
+                0.05 + 0.3 * f(),
+            )
+        })
+        .collect();
+    let size = bvh_storage_for(million.len());
+    let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+    let mut lanes = vec![0.0f32; size.lanes];
+    let mut ids = vec![0u32; size.ids];
+    s.compare(
+        "bvh",
+        "bvh build/1M spheres",
+        "spheres",
+        vec![contender("build", million.len() as f64, || {
+            Bvh::build(&million, &mut nodes, &mut lanes, &mut ids)
+                .map_or(0, |b| b.node_count() as u64)
+        })],
+        false,
+    )?;
+    Ok(())
+}
+
 fn rendering(s: &mut Suite<'_>) -> Result<()> {
     for (name, spp, depth) in [("week09", 32u32, 5u32), ("cover", 8, 50)] {
         let scene = built_in(name).ok_or_else(|| anyhow::anyhow!("no built-in scene `{name}`"))?;
@@ -583,6 +727,42 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
                 .push(("M rays/s".into(), f.mega_per_s.median * rays_per_path));
         }
     }
+    // The cover at the book's settings on 2 threads, BVH (auto) vs brute
+    // force: the throughput goal.
+    let scene = built_in("cover").ok_or_else(|| anyhow::anyhow!("no built-in scene `cover`"))?;
+    let job = |bvh| Job {
+        scene: &scene,
+        width: 400,
+        height: 225,
+        window: crate::render::whole(400, 225),
+        spp: 32,
+        samples: 0..32,
+        max_depth: 50,
+        sampler: SamplerKind::Independent,
+        seed: 0,
+        threads: 2,
+        tile: 16,
+        direct_lighting: true,
+        bvh,
+    };
+    let render = |name: &str, bvh| -> Contender<'_> {
+        let j = job(bvh);
+        Contender {
+            name: name.into(),
+            units: 400.0 * 225.0 * 32.0,
+            work: Box::new(move || Ok(Done::Seconds(run(&j, &|_| {})?.wall.as_secs_f64()))),
+        }
+    };
+    s.compare(
+        "rendering",
+        "render/cover_400x225_32spp",
+        "camera paths",
+        vec![
+            render("2 threads, brute force", crate::scenes::BvhMode::Off),
+            render("2 threads", crate::scenes::BvhMode::Auto),
+        ],
+        true,
+    )?;
     Ok(())
 }
 
@@ -610,8 +790,10 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
     };
     sampling(&mut s)?;
     intersection(&mut s)?;
+    bvh(&mut s)?;
     rendering(&mut s)?;
-    let goals = goals(&s.ratios);
+    let mut goals = goals(&s.ratios);
+    goals.extend(absolute_goals(&s.figures));
     Ok(Report {
         version: env!("CARGO_PKG_VERSION").into(),
         simd: strata::trace::simd_level().name().into(),
@@ -626,7 +808,7 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
 }
 
 /// The number of comparisons the suite runs (for a progress bar).
-pub const COMPARISONS: u64 = 6 + 8 + 2;
+pub const COMPARISONS: u64 = 6 + 8 + 6 + 1 + 3;
 
 /// The report as an aligned text table, with the goals and a warning when
 /// the 2-thread renders did not get two free cores.

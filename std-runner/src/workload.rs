@@ -110,6 +110,21 @@ pub fn random_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Ray> {
         .collect()
 }
 
+/// The 10 000-sphere scene of the BVH benchmarks: centres uniform in
+/// `[-20, 20]³`, radii uniform in `[0.05, 0.35]` (PCG32 seeded 10 000 on
+/// the default stream; overlaps allowed).
+#[must_use]
+pub fn random_spheres_10k() -> Vec<Sphere> {
+    let mut rng = Pcg32::new(10_000, strata::rng::STREAM);
+    (0..10_000)
+        .map(|_| {
+            let mut f = || next_f32(&mut rng);
+            let c = Vec3::new(f(), f(), f()) * 40.0 - Vec3::splat(20.0);
+            Sphere::new(c, 0.05 + 0.3 * f())
+        })
+        .collect()
+}
+
 /// The box incoherent rays start in for a scene: around the course's
 /// spheres, or the cover's `[−11, 11] × [0, 2] × [−11, 11]`.
 #[must_use]
