@@ -145,6 +145,8 @@ pub struct Goal {
     pub measured: f64,
     /// Whether `measured ≥ target`.
     pub pass: bool,
+    /// `x` for a ratio, else the unit of an absolute rate (`M rays/s`).
+    pub unit: String,
 }
 
 /// The suite's targets: every packet path ≥ 6× its scalar path, every
@@ -165,6 +167,7 @@ fn goals(ratios: &[Ratio]) -> Vec<Goal> {
                 target,
                 measured: r.ratio.median,
                 pass: r.ratio.median >= target,
+                unit: "x".into(),
             })
         })
         .collect()
@@ -547,10 +550,11 @@ fn absolute_goals(figures: &[Figure]) -> Vec<Goal> {
                 .iter()
                 .find(|f| f.comparison == comparison && f.name == name)?;
             Some(Goal {
-                name: format!("{comparison} {name} M {}/s", f.unit),
+                name: format!("{comparison} {name}"),
                 target,
                 measured: f.mega_per_s.median,
                 pass: f.mega_per_s.median >= target,
+                unit: format!(" M {}/s", f.unit),
             })
         })
         .collect()
@@ -844,8 +848,11 @@ pub fn table(r: &Report) -> String {
     for g in &r.goals {
         let verdict = if g.pass { "PASS" } else { "FAIL" };
         out += &format!(
-            "  {verdict}  {:<52} {:6.2}x  (target {:.1}x)\n",
-            g.name, g.measured, g.target
+            "  {verdict}  {:<52} {:6.2}{u}  (target {:.1}{u})\n",
+            g.name,
+            g.measured,
+            g.target,
+            u = g.unit
         );
     }
     for (name, c) in &r.effective_cores {
