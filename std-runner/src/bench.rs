@@ -622,14 +622,14 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
                         tree.closest_hit_x8(p, &mut h, 0);
-                        a + h.sphere.to_array()[0] as u64
+                        a.wrapping_add(h.sphere.to_array()[0] as u64)
                     })
                 }),
                 contender("bvh packet, fallback 2", n, || {
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
                         tree.closest_hit_x8(p, &mut h, 2);
-                        a + h.sphere.to_array()[0] as u64
+                        a.wrapping_add(h.sphere.to_array()[0] as u64)
                     })
                 }),
             ],
