@@ -189,8 +189,8 @@ fn bvh_matches_brute_force_bit_for_bit() {
                 "{name} ray {k}: {ray:?}"
             );
         }
-        // Packets: as packets, with per-ray fallback at 2, and all per ray;
-        // a partial last packet and a preset hit in lane 0.
+        // Packets: as packets, with per-ray fallback at 2, and all per ray
+        // (full packets from fresh hits).
         for chunk in rays.chunks(8).take(n / 16) {
             let packet = RayPacket8::from_rays(chunk);
             for fallback in [0, 2, 8] {

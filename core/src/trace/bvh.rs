@@ -146,11 +146,17 @@ pub struct BvhStorage {
 #[must_use]
 #[inline]
 pub const fn bvh_storage_for(n: usize) -> BvhStorage {
-    let nodes = if n <= 8 { 1 } else { (5 * n - 3) / 21 };
+    // Saturating: sizes past BVH_MAX_SPHERES are refused by the build
+    // anyway, and must not overflow here.
+    let nodes = if n <= 8 {
+        1
+    } else {
+        n.saturating_mul(5).saturating_sub(3) / 21
+    };
     BvhStorage {
         nodes,
-        lanes: 4 * (n + 7),
-        ids: n + 7,
+        lanes: n.saturating_add(7).saturating_mul(4),
+        ids: n.saturating_add(7),
     }
 }
 
