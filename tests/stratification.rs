@@ -205,19 +205,7 @@ fn sobol_first_pairs_are_nets() {
                     sets[3].push(s.next_2d());
                 }
                 for (which, pts) in sets.iter().enumerate() {
-                    for a in 0..=k {
-                        let (nx, ny) = (1u32 << a, 1u32 << (k - a));
-                        let mut cells = vec![0u32; n as usize];
-                        for p in pts {
-                            let cx = (p.x as f64 * nx as f64) as u32;
-                            let cy = (p.y as f64 * ny as f64) as u32;
-                            cells[(cy * nx + cx) as usize] += 1;
-                        }
-                        assert!(
-                            cells.iter().all(|&c| c == 1),
-                            "seed {seed} pixel {pixel} k {k} set {which}: {nx}x{ny} intervals {cells:?}"
-                        );
-                    }
+                    assert_net(pts, k, &format!("seed {seed} pixel {pixel} set {which}"));
                 }
             }
         }
@@ -343,22 +331,30 @@ fn sobol_later_blocks_are_nets_too() {
                 for k in 1..=7u32 {
                     let n = 1usize << k;
                     for (j, block) in pts.chunks(n).enumerate() {
-                        for a in 0..=k {
-                            let (nx, ny) = (1u32 << a, 1u32 << (k - a));
-                            let mut cells = vec![0u32; n];
-                            for p in block {
-                                let cx = (p.x as f64 * nx as f64) as u32;
-                                let cy = (p.y as f64 * ny as f64) as u32;
-                                cells[(cy * nx + cx) as usize] += 1;
-                            }
-                            assert!(
-                                cells.iter().all(|&c| c == 1),
-                                "seed {seed} {pixel} set {which} block {j} of {n}: {nx}x{ny}"
-                            );
-                        }
+                        let what = format!("seed {seed} {pixel} set {which} block {j}");
+                        assert_net(block, k, &what);
                     }
                 }
             }
         }
+    }
+}
+
+/// `pts` (2^k points) is a (0,k,2)-net: every elementary interval of area
+/// 2^-k holds exactly one point, for every shape 2^a × 2^(k−a).
+fn assert_net(pts: &[Vec2], k: u32, what: &str) {
+    assert_eq!(pts.len(), 1 << k, "{what}");
+    for a in 0..=k {
+        let (nx, ny) = (1u32 << a, 1u32 << (k - a));
+        let mut cells = vec![0u32; pts.len()];
+        for p in pts {
+            let cx = (p.x as f64 * nx as f64) as u32;
+            let cy = (p.y as f64 * ny as f64) as u32;
+            cells[(cy * nx + cx) as usize] += 1;
+        }
+        assert!(
+            cells.iter().all(|&c| c == 1),
+            "{what} k {k}: {nx}x{ny} intervals {cells:?}"
+        );
     }
 }
