@@ -43,11 +43,11 @@
 
 use core::ops::Range;
 
-use glam::{UVec2, Vec3};
+use glam::{UVec2, Vec2, Vec3};
 
 use super::camera::Camera;
 use super::film::PixelSum;
-use super::material::{Lobe, SurfaceHit};
+use super::material::{Lobe, Material, SurfaceHit};
 use super::scene::Scene;
 use super::texture::sphere_uv;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
@@ -142,7 +142,7 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
 
 /// The surface record of a hit.
 #[inline]
-fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit) -> SurfaceHit {
+fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> SurfaceHit {
     let s = scene.spheres()[hit.sphere as usize];
     let p = ray.at(hit.t);
     let outward = (p - s.center).normalize_or_zero();
@@ -151,7 +151,13 @@ fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit) -> SurfaceHit {
         p,
         n: if front_face { outward } else { -outward },
         front_face,
-        uv: sphere_uv(outward),
+        // acos and atan2 cost more than the rest of the record; only an
+        // image texture reads uv.
+        uv: if material.uses_uv() {
+            sphere_uv(outward)
+        } else {
+            Vec2::ZERO
+        },
     }
 }
 
@@ -175,7 +181,7 @@ fn direct_light(
     hit: Hit,
     surf: &SurfaceHit,
     u_choice: f32,
-    u_dir: glam::Vec2,
+    u_dir: Vec2,
     stats: &mut TileStats,
 ) -> Vec3 {
     let lights = scene.lights();
@@ -250,7 +256,7 @@ fn trace_path<S: Sampler>(
         if segment == settings.max_depth {
             break;
         }
-        let surf = surface(scene, &ray, h);
+        let surf = surface(scene, &ray, h, material);
         let u_scatter = sampler.next_2d();
         let u_lobe = sampler.next_1d();
         let u_choice = sampler.next_1d();

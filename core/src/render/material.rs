@@ -40,7 +40,8 @@ pub struct SurfaceHit {
     pub n: Vec3,
     /// Whether the ray arrived from outside the sphere.
     pub front_face: bool,
-    /// The sphere's `(u, v)` at the point.
+    /// The sphere's `(u, v)` at the point; the integrator leaves it zero
+    /// when the material does not read it ([`Material::uses_uv`]).
     pub uv: Vec2,
 }
 
@@ -330,6 +331,29 @@ impl Material<'_> {
         match self {
             Material::DiffuseLight { emit } => *emit,
             _ => Vec3::ZERO,
+        }
+    }
+
+    /// Whether shading reads [`SurfaceHit::uv`] (an image-textured
+    /// albedo), so the integrator computes it only then.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::{Material, Texture};
+    /// let m = Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) };
+    /// assert!(!m.uses_uv());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn uses_uv(&self) -> bool {
+        match self {
+            Material::Lambertian { albedo }
+            | Material::Phong { albedo, .. }
+            | Material::Blinn { albedo, .. }
+            | Material::PhongNormalized { albedo, .. }
+            | Material::BlinnNormalized { albedo, .. }
+            | Material::CookTorrance { albedo, .. } => albedo.uses_uv(),
+            _ => false,
         }
     }
 

@@ -101,6 +101,20 @@ impl Texture<'_> {
             Texture::Image(img) => img.lookup(uv),
         }
     }
+
+    /// Whether [`Texture::value`] reads `uv` (only image textures do), so
+    /// a renderer can skip computing it.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::Texture;
+    /// assert!(!Texture::Solid(Vec3::ONE).uses_uv());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn uses_uv(&self) -> bool {
+        matches!(self, Texture::Image(_))
+    }
 }
 
 /// The course's sphere `(u, v)` of an outward unit normal `n`: `θ =
