@@ -535,10 +535,12 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
 
 /// Rays per second per core the BVH must reach on the cover scene, and
 /// camera paths per second of the 2-thread cover render: (comparison,
-/// contender, target M/s).
+/// contender, target M/s). Camera rays are judged by packet traversal,
+/// which is how the renderer traces them; incoherent rays by the
+/// single-ray traversal, their fastest path.
 const BVH_GOALS: [(&str, &str, f64); 3] = [
     ("bvh closest/cover_incoherent", "bvh", 25.0),
-    ("bvh closest/cover_camera_720p", "bvh", 40.0),
+    ("bvh closest/cover_camera_720p", "bvh packet", 40.0),
     ("render/cover_400x225_32spp", "2 threads", 12.0),
 ];
 
