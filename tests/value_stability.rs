@@ -10,11 +10,13 @@
 //!    rounds differently fails here.
 //! 4. The tracing lock: a hash of the closest hits (sphere and `t` bits)
 //!    of seeded random rays against the course and cover layouts, through
-//!    the scalar, 1×8 and packet paths. CI runs it on an SSE2 and a native
+//!    the scalar, 1×8, packet and BVH paths. CI runs it on an SSE2 and a native
 //!    (AVX2/AVX-512) build: both must produce these very values.
-//! 5. The render lock: a hash of the exact film sums of small renders of
-//!    every built-in scene with every sampler. It pins the whole path: the
-//!    dimension layout, every material, lights and MIS, the film.
+//! 5. The render lock: the golden table of `strata verify`
+//!    (`strata_runner::golden`), a hash of the exact film sums of small
+//!    renders of every built-in scene and the example scene file with every
+//!    sampler. It pins the whole path: the dimension layout, every
+//!    material, lights and MIS, the BVH, the film.
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation: the properties (uniformity, independence, stratification,
@@ -263,14 +265,25 @@ fn tracing_lock() {
         let set = SphereSet::build(&spheres, &mut storage).unwrap();
         let (lo, hi) = ray_box(cover);
         let rays = random_rays(4096, lo, hi, 3);
+        let size = bvh_storage_for(spheres.len());
+        let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+        let mut lanes = vec![0.0f32; size.lanes];
+        let mut ids = vec![0u32; size.ids];
+        let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
         let mut words = vec![];
         for chunk in rays.chunks(8) {
+            let packet_rays = RayPacket8::from_rays(chunk);
             let mut packet = HitPacket8::NONE;
-            closest_hit_x8(&RayPacket8::from_rays(chunk), &set, &mut packet);
+            closest_hit_x8(&packet_rays, &set, &mut packet);
+            let mut bvh_packet = HitPacket8::NONE;
+            bvh.closest_hit_x8(&packet_rays, &mut bvh_packet, 2);
             for (lane, ray) in chunk.iter().enumerate() {
                 let a = closest_hit(ray, &spheres);
                 assert_eq!(a, closest_hit_1x8(ray, &set));
                 assert_eq!(a, packet.hit(lane));
+                assert_eq!(a, bvh.closest_hit(ray));
+                assert_eq!(a, bvh_packet.hit(lane));
+                assert_eq!(any_hit(ray, &spheres), bvh.any_hit(ray));
                 let (s, t) = a.map_or((u32::MAX, 0), |h| (h.sphere, h.t.to_bits()));
                 words.extend([s, t, any_hit(ray, &spheres) as u32]);
             }
@@ -283,88 +296,31 @@ fn tracing_lock() {
 
 #[test]
 fn render_lock() {
-    use strata::render::{Camera, PixelSum, RenderSettings, Tile, render_tile};
-    use strata_runner::scenes::{BUILT_IN, built_in};
-    fn film<S: Sampler + Clone>(name: &str, sampler: S) -> u64 {
-        let data = built_in(name).unwrap();
-        let camera = Camera::new(&data.camera, 32, 18).unwrap();
-        let settings = RenderSettings {
-            max_depth: 8,
-            direct_lighting: true,
-        };
-        let tile = Tile {
-            x0: 0,
-            y0: 0,
-            width: 32,
-            height: 18,
-        };
-        let mut film = vec![PixelSum::ZERO; tile.area()];
-        data.with_scene(|scene| {
-            render_tile(scene, &camera, &sampler, &settings, tile, 0..4, &mut film)
-        })
-        .unwrap()
-        .unwrap();
-        fnv(film.iter().flat_map(|p| {
-            let [r, g, b] = p.sum;
-            [
-                r as u32,
-                (r >> 32) as u32,
-                g as u32,
-                (g >> 32) as u32,
-                b as u32,
-                (b >> 32) as u32,
-                p.samples,
-                p.dropped,
-            ]
-        }))
-    }
-    // Every built-in scene under every sampler (4 spp, seed 5), keyed by
-    // name so a new scene or sampler adds rows without moving any.
-    let lock: &[(&str, &str, u64)] = &[
-        ("week09", "independent", 0xa3b1b2bcd3e21f77),
-        ("week09", "grid", 0xce8d68df935a9439),
-        ("week09", "stratified", 0x4f28f547359e6b5b),
-        ("week09", "sobol", 0xeb1beeb21e8f4a66),
-        ("week09", "halton", 0x78ff2021113a1e1d),
-        ("cover", "independent", 0x8d79f6b18daa403c),
-        ("cover", "grid", 0xcdca85e9a21a9c62),
-        ("cover", "stratified", 0x332191608714f4cf),
-        ("cover", "sobol", 0x5bd1dac69d25b954),
-        ("cover", "halton", 0x7a4a9d46768b32a1),
-        ("showcase", "independent", 0xef9e80853e86fd92),
-        ("showcase", "grid", 0x7fa9bbbe2ce4aea2),
-        ("showcase", "stratified", 0x39144b2cc4deda66),
-        ("showcase", "sobol", 0xf66c2daf48bd9a39),
-        ("showcase", "halton", 0x764c2363dd055970),
-        ("horizon", "independent", 0xce069952a9473211),
-        ("horizon", "grid", 0x6cfe20ba8230211f),
-        ("horizon", "stratified", 0x8404b5754b2be31a),
-        ("horizon", "sobol", 0xed74181e1e966aa1),
-        ("horizon", "halton", 0x52a8e6640794f150),
-    ];
-    let mut got = vec![];
-    for name in BUILT_IN {
-        got.push((
-            name,
-            "independent",
-            film(name, Independent::new(4, 5).unwrap()),
-        ));
-        got.push((name, "grid", film(name, UniformGrid::new(4, 5).unwrap())));
-        got.push((
-            name,
-            "stratified",
-            film(name, Stratified::new(4, 5).unwrap()),
-        ));
-        got.push((name, "sobol", film(name, strata::Sobol::new(4, 5).unwrap())));
-        got.push((
-            name,
-            "halton",
-            film(name, strata::Halton::new(4, 5).unwrap()),
-        ));
-    }
-    let table: String = got
-        .iter()
-        .map(|(n, s, h)| format!("        (\"{n}\", \"{s}\", {h:#018x}),\n"))
-        .collect();
-    assert_eq!(got, lock, "renders changed; now:\n{table}{CHANGED}");
+    // The golden table of `strata verify`: every built-in scene and the
+    // example scene file under every sampler, rendered through the
+    // runner (BVH where it would be used). Each entry is rendered on 1
+    // thread and on 2 with another tile size inside `verify`'s job; the
+    // table itself is the lock.
+    use strata_runner::golden;
+    let outcomes = golden::verify(2, &mut |_| {}).unwrap();
+    let table = golden::table_source(&outcomes);
+    assert!(
+        outcomes.iter().all(golden::Outcome::pass),
+        "renders changed; the table is now:\n{table}{CHANGED}"
+    );
+    assert_eq!(
+        outcomes.len(),
+        golden::GOLDEN.len(),
+        "a table row has no render"
+    );
+    // One thread gives the same hash as two.
+    let data = golden::scene("cover").unwrap();
+    let one = golden::render_hash(&data, strata_runner::render::SamplerKind::Sobol, 1).unwrap();
+    assert_eq!(
+        Some(one),
+        golden::GOLDEN
+            .iter()
+            .find(|e| e.0 == "cover" && e.1 == "sobol")
+            .map(|e| e.2)
+    );
 }

@@ -12,6 +12,7 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use strata::render::Tile;
 
+use crate::film_file::{Film, RenderKey, window_text};
 use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic, write_image};
 use crate::render::{Job, SamplerKind, run};
 use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
@@ -51,6 +52,12 @@ pub enum Command {
     /// Render one scene with several samplers at the same spp, side by
     /// side in one labelled PNG (default: the `horizon` checker plane).
     Aliasing(AliasingArgs),
+    /// Merge partial films (`render --crop/--pixel-bounds/--samples -o
+    /// PART.film`) into one image, bit-identical to a one-shot render.
+    Merge(MergeArgs),
+    /// Re-render the golden table (small renders of every scene and
+    /// sampler) and check this build reproduces it bit for bit.
+    Verify(VerifyArgs),
 }
 
 /// Parses `x0,x1,y0,y1` (pixels, half-open: columns x0..x1, rows y0..y1),
@@ -515,9 +522,78 @@ pub struct RenderArgs {
     /// speed, never the image.
     #[arg(long, value_enum, default_value_t = BvhMode::Auto)]
     pub bvh: BvhMode,
-    /// Output file, .png (8-bit) or .exr (linear float) [default: SCENE.png].
+    /// Render only part of the frame: x0,x1,y0,y1 as fractions of the
+    /// image in [0, 1] (pbrt's --cropwindow); pixel bounds are
+    /// ceil(fraction × size).
+    #[arg(long, value_parser = crop_window, conflicts_with = "pixel_bounds")]
+    pub crop: Option<[f32; 4]>,
+    /// Render only pixels x0..x1, y0..y1 (half-open; pbrt's --pixelbounds).
+    #[arg(long, value_parser = pixel_bounds)]
+    pub pixel_bounds: Option<[u32; 4]>,
+    /// Render only sample indices A..B-1 of every pixel (within 0..spp).
+    #[arg(long, value_parser = sample_range)]
+    pub samples: Option<std::ops::Range<u32>>,
+    /// Output file: .png (8-bit), .exr (linear float), or .film (exact
+    /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Write run facts (threads, wall time, SIMD level, rays) as JSON.
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
+}
+
+/// Parses `x0,x1,y0,y1` fractions in [0, 1] with x0 < x1, y0 < y1.
+fn crop_window(s: &str) -> Result<[f32; 4], String> {
+    let v: Vec<&str> = s.split(',').collect();
+    let [_, _, _, _] = v[..] else {
+        return Err(format!("`{s}` is not x0,x1,y0,y1"));
+    };
+    let mut out = [0f32; 4];
+    for (o, t) in out.iter_mut().zip(v) {
+        *o = t
+            .trim()
+            .parse()
+            .ok()
+            .filter(|x: &f32| (0.0..=1.0).contains(x))
+            .ok_or_else(|| format!("`{t}` is not a fraction in [0, 1]"))?;
+    }
+    if out[0] >= out[1] || out[2] >= out[3] {
+        return Err(format!("`{s}` is empty: need x0 < x1 and y0 < y1"));
+    }
+    Ok(out)
+}
+
+/// Parses `A..B` sample indices, `A < B`.
+fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
+    crate::film_file::parse_samples(s)
+        .ok_or_else(|| format!("`{s}` is not a sample range A..B with A < B"))
+}
+
+/// The pixel window of a `--crop` in a `width × height` image: pbrt's
+/// rule, `ceil(fraction × size)` at both ends.
+fn crop_to_window(c: [f32; 4], width: u32, height: u32) -> Result<Tile> {
+    let at = |f: f32, n: u32| (f as f64 * n as f64).ceil() as u32;
+    let (x0, x1, y0, y1) = (
+        at(c[0], width),
+        at(c[1], width),
+        at(c[2], height),
+        at(c[3], height),
+    );
+    if x0 >= x1 || y0 >= y1 {
+        bail!(
+            "--crop {},{},{},{} holds no pixel of the {width}x{height} image",
+            c[0],
+            c[1],
+            c[2],
+            c[3]
+        );
+    }
+    Ok(Tile {
+        x0,
+        y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
 }
 
 /// Loads `--scene`: a built-in name, or a path to a TOML file.
@@ -571,19 +647,35 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             strata::sampler::MAX_STRATA_SPP
         );
     }
+    let window = match (args.crop, args.pixel_bounds) {
+        (Some(c), _) => crop_to_window(c, width, height)?,
+        (None, Some(b)) => window_of(b, width, height)?,
+        (None, None) => crate::render::whole(width, height),
+    };
+    let samples = args.samples.clone().unwrap_or(0..spp);
+    if samples.end > spp {
+        bail!(
+            "--samples {}..{} reaches past the {spp} samples per pixel",
+            samples.start,
+            samples.end
+        );
+    }
     let output = args
         .output
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
-    check_output(&output)?;
+    check_output_or_film(&output)?;
+    if let Some(stats) = &args.stats {
+        check_json(stats, "--stats")?;
+    }
 
     let job = Job {
         scene: &scene,
         width,
         height,
-        window: crate::render::whole(width, height),
+        window,
         spp,
-        samples: 0..spp,
+        samples: samples.clone(),
         max_depth,
         sampler: args.sampler,
         seed: args.seed,
@@ -593,7 +685,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         bvh: args.bvh,
     };
     let bar = if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(width as u64 * height as u64);
+        let bar = ProgressBar::new(window.area() as u64);
         bar.set_style(
             ProgressStyle::with_template(
                 "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
@@ -607,21 +699,29 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let rendered = run(&job, &|n| bar.inc(n))?;
     bar.finish_and_clear();
 
-    let pixels: Vec<glam::Vec3> = rendered.pixels.iter().map(|p| p.mean()).collect();
     let dropped: u64 = rendered.pixels.iter().map(|p| p.dropped as u64).sum();
-    write_image(
-        &output,
-        width,
-        height,
-        &pixels,
-        args.gamma,
-        &metadata(&job, args.gamma),
-    )
-    .with_context(|| format!("writing `{}`", output.display()))?;
+    let film = Film {
+        key: RenderKey::of(&job),
+        window,
+        samples: samples.clone(),
+        pixels: rendered.pixels,
+    };
+    write_film_or_image(&output, &film, args.gamma)?;
 
     let secs = rendered.wall.as_secs_f64();
+    let st = rendered.stats;
+    let part = if window == crate::render::whole(width, height) && samples == (0..spp) {
+        String::new()
+    } else {
+        format!(
+            " (pixels {}, samples {}..{})",
+            window_text(window),
+            samples.start,
+            samples.end
+        )
+    };
     say(&format!(
-        "{}: {}x{} {} spp ({}, seed {}), depth {}, to {}",
+        "{}: {}x{} {} spp ({}, seed {}), depth {}{part}, to {}",
         scene.name,
         width,
         height,
@@ -631,7 +731,6 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         max_depth,
         output.display()
     ));
-    let st = rendered.stats;
     say(&format!(
         "{:.3} s on {} threads ({}): {:.2} M samples/s, {:.2} M rays/s{}",
         secs,
@@ -645,39 +744,159 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             String::new()
         }
     ));
+    if let Some(path) = &args.stats {
+        let facts = serde_json::json!({
+            "scene": scene.name,
+            "output": output.display().to_string(),
+            "threads": args.threads,
+            "tile": args.tile,
+            "simd": strata::trace::simd_level().name(),
+            "wall_seconds": secs,
+            "camera_paths": st.paths,
+            "rays": st.rays,
+            "shadow_rays": st.shadow_rays,
+            "dropped_samples": dropped,
+            "bvh": scene.use_bvh(args.bvh),
+            "version": crate::film_file::version(),
+        });
+        let text = serde_json::to_string_pretty(&facts)? + "\n";
+        write_atomic(path, |tmp| Ok(std::fs::write(tmp, &text)?))
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
     Ok(())
 }
 
-/// What defines a render, and nothing that varies from run to run, so the
-/// same render is the same file on any machine.
-pub fn metadata(job: &Job<'_>, transfer: Transfer) -> Vec<(String, String)> {
-    let v = |k: &str, v: String| (format!("strata.{k}"), v);
-    vec![
-        (
-            "Software".into(),
-            format!("strata {}", env!("CARGO_PKG_VERSION")),
-        ),
-        v("scene", job.scene.name.clone()),
-        v("scene_hash", format!("{:016x}", job.scene.content_hash())),
-        v("size", format!("{}x{}", job.width, job.height)),
-        v("spp", job.spp.to_string()),
-        v(
-            "samples",
-            format!("{}..{}", job.samples.start, job.samples.end),
-        ),
-        v("sampler", job.sampler.name().into()),
-        v("seed", job.seed.to_string()),
-        v("max_depth", job.max_depth.to_string()),
-        v("direct_lighting", job.direct_lighting.to_string()),
-        v("filter", "box".into()),
-        v(
-            "transfer",
-            match transfer {
-                Transfer::Srgb => "srgb".into(),
-                Transfer::Gamma2 => "gamma2".into(),
-            },
-        ),
-    ]
+/// The transfer curve's name in metadata.
+fn transfer_name(t: Transfer) -> &'static str {
+    match t {
+        Transfer::Srgb => "srgb",
+        Transfer::Gamma2 => "gamma2",
+    }
+}
+
+/// `path` is a .png, .exr or .film name in a writable directory.
+fn check_output_or_film(path: &Path) -> Result<()> {
+    if is_film(path) {
+        check_writable_dir(path)
+    } else {
+        check_output(path).map_err(|e| anyhow::anyhow!("{e}, or .film for a partial film"))
+    }
+}
+
+fn is_film(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("film"))
+}
+
+/// `path` ends in .json and can be written.
+fn check_json(path: &Path, flag: &str) -> Result<()> {
+    if path
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("json"))
+    {
+        bail!("{flag} `{}` must end in .json", path.display());
+    }
+    check_writable_dir(path)
+}
+
+/// Writes `film` as a .film, or its window as a PNG/EXR image.
+fn write_film_or_image(path: &Path, film: &Film, transfer: Transfer) -> Result<()> {
+    if is_film(path) {
+        let bytes = film.to_bytes();
+        return write_atomic(path, |tmp| Ok(std::fs::write(tmp, &bytes)?))
+            .with_context(|| format!("writing `{}`", path.display()));
+    }
+    let pixels: Vec<glam::Vec3> = film.pixels.iter().map(|p| p.mean()).collect();
+    write_image(
+        path,
+        film.window.width,
+        film.window.height,
+        &pixels,
+        transfer,
+        &film.metadata(transfer_name(transfer)),
+    )
+    .with_context(|| format!("writing `{}`", path.display()))
+}
+
+/// `strata merge` flags.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Partial films written by `strata render -o PART.film`.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// Output: .png, .exr or .film.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// PNG transfer curve: sRGB, or the course's gamma 2.
+    #[arg(long, value_enum, default_value_t = Transfer::Srgb)]
+    pub gamma: Transfer,
+}
+
+/// Runs `strata merge`: every part is read and checked before the output
+/// is written; a refused merge writes nothing.
+pub fn merge(args: &MergeArgs) -> Result<()> {
+    check_output_or_film(&args.output)?;
+    let parts: Vec<Film> = args
+        .parts
+        .iter()
+        .map(|p| Film::read(p))
+        .collect::<Result<_>>()?;
+    let film = crate::film_file::merge(&parts, &args.parts)?;
+    write_film_or_image(&args.output, &film, args.gamma)?;
+    say(&format!(
+        "merged {} parts: {} {}x{}, {} spp, to {}",
+        parts.len(),
+        film.key.get("scene").unwrap_or("?"),
+        film.key.width(),
+        film.key.height(),
+        film.key.spp(),
+        args.output.display()
+    ));
+    Ok(())
+}
+
+/// `strata verify` flags.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Worker threads (the hashes do not depend on it).
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    pub threads: u16,
+}
+
+/// Runs `strata verify`: one line per entry, and an error if any differs.
+pub fn verify(args: &VerifyArgs) -> Result<()> {
+    use crate::golden;
+    say(&format!(
+        "{}: golden renders {}x{}, {} spp, seed {}, depth {}",
+        crate::version_line(),
+        golden::SIZE.0,
+        golden::SIZE.1,
+        golden::SPP,
+        golden::SEED,
+        golden::MAX_DEPTH
+    ));
+    let outcomes = golden::verify(args.threads as usize, &mut |o| {
+        let (status, why) = match o.expected {
+            Some(e) if e == o.got => ("pass", String::new()),
+            Some(e) => ("FAIL", format!("  (expected {e:016x})")),
+            None => ("FAIL", "  (not in the table)".to_string()),
+        };
+        say(&format!(
+            "{status}  {:<32} {:<12} {:016x}{why}",
+            o.scene, o.sampler, o.got
+        ));
+    })?;
+    let failed = outcomes.iter().filter(|o| !o.pass()).count();
+    if failed > 0 {
+        bail!(
+            "{failed} of {} golden renders differ: this build or machine does not reproduce \
+             Strata {}'s pixels",
+            outcomes.len(),
+            crate::film_file::version()
+        );
+    }
+    say(&format!("all {} golden renders match", outcomes.len()));
+    Ok(())
 }
 
 /// Parses and runs a command line; what `main` calls.
@@ -691,6 +910,8 @@ pub fn main_with(cli: Cli) -> Result<()> {
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Converge(args)) => converge(&args),
         Some(Command::Aliasing(args)) => aliasing(&args),
+        Some(Command::Merge(args)) => merge(&args),
+        Some(Command::Verify(args)) => verify(&args),
         // No subcommand: `strata render` with every default.
         None => match Cli::try_parse_from(["strata", "render"])?.command {
             Some(Command::Render(args)) => render(&args),

@@ -699,3 +699,276 @@ fn studies_refuse_bad_flags_before_work() {
         assert!(err.contains(says), "{args:?}: {err}");
     }
 }
+
+/// The flags of a small cover render; `extra` and `-o name` follow.
+fn cover_render(dir: &Path, name: &str, extra: &[&str]) {
+    let mut args = vec![
+        "render",
+        "--scene",
+        "cover",
+        "--width",
+        "40",
+        "--spp",
+        "6",
+        "--seed",
+        "3",
+        "--max-depth",
+        "6",
+        "--sampler",
+        "sobol",
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", name]);
+    ok(dir, &args);
+}
+
+#[test]
+fn split_renders_merge_into_the_one_shot_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    cover_render(d, "full.png", &[]);
+    cover_render(d, "full.exr", &[]);
+    // Pixels and samples both split, unevenly: left columns in two sample
+    // runs, the right part by --crop (40 × 0.45 → column 18; the image is 40 × 22), the bottom
+    // right rows in another run.
+    cover_render(
+        d,
+        "a.film",
+        &["--pixel-bounds", "0,18,0,22", "--samples", "0..4"],
+    );
+    cover_render(
+        d,
+        "b.film",
+        &["--pixel-bounds", "0,18,0,22", "--samples", "4..6"],
+    );
+    cover_render(d, "c.film", &["--crop", "0.45,1,0,0.5"]);
+    cover_render(d, "e.film", &["--crop", "0.45,1,0.5,1", "--threads", "1"]);
+    let parts = ["e.film", "b.film", "c.film", "a.film"];
+    let merge = |out: &str| {
+        let mut args = vec!["merge"];
+        args.extend_from_slice(&parts);
+        args.extend_from_slice(&["-o", out]);
+        ok(d, &args)
+    };
+    let said = merge("m.png");
+    assert!(said.contains("merged 4 parts"), "{said}");
+    assert_eq!(bytes(&d.join("m.png")), bytes(&d.join("full.png")), "PNG");
+    merge("m.exr");
+    assert_eq!(bytes(&d.join("m.exr")), bytes(&d.join("full.exr")), "EXR");
+    // A merged film is a film too.
+    merge("m.film");
+    ok(d, &["merge", "m.film", "-o", "again.png"]);
+    assert_eq!(bytes(&d.join("again.png")), bytes(&d.join("full.png")));
+    // The film is 32 bytes a pixel and a short header.
+    let film = bytes(&d.join("m.film")).len();
+    assert!(
+        (40 * 22 * 32..40 * 22 * 32 + 1024).contains(&film),
+        "{film}"
+    );
+    // A crop rendered straight to PNG is the window's pixels.
+    cover_render(d, "crop.png", &["--crop", "0.45,1,0,0.5"]);
+    assert_eq!(png_size(&d.join("crop.png")), (22, 11));
+}
+
+#[test]
+fn merge_refuses_overlaps_gaps_and_strangers() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    cover_render(d, "top.film", &["--pixel-bounds", "0,40,0,12"]);
+    cover_render(d, "bottom.film", &["--pixel-bounds", "0,40,12,22"]);
+    cover_render(
+        d,
+        "low.film",
+        &["--pixel-bounds", "0,40,11,22", "--samples", "0..2"],
+    );
+    cover_render(
+        d,
+        "first.film",
+        &["--pixel-bounds", "0,40,12,22", "--samples", "0..3"],
+    );
+    // Another seed, another scene size.
+    ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "40",
+            "--spp",
+            "6",
+            "--seed",
+            "4",
+            "--max-depth",
+            "6",
+            "--sampler",
+            "sobol",
+            "--pixel-bounds",
+            "0,40,12,22",
+            "-o",
+            "seed4.film",
+        ],
+    );
+    ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "41",
+            "--spp",
+            "6",
+            "--seed",
+            "3",
+            "--max-depth",
+            "6",
+            "--sampler",
+            "sobol",
+            "--pixel-bounds",
+            "0,40,12,22",
+            "-o",
+            "wide.film",
+        ],
+    );
+    let full = bytes(&d.join("bottom.film"));
+    std::fs::write(d.join("cut.film"), &full[..full.len() - 100]).unwrap();
+    let mut flipped = full.clone();
+    let last = flipped.len() - 1;
+    flipped[last] ^= 1;
+    std::fs::write(d.join("flipped.film"), &flipped).unwrap();
+    std::fs::write(d.join("notes.film"), "hello\nworld\n").unwrap();
+    cover_render(d, "image.png", &[]);
+    for (parts, want) in [
+        (
+            vec!["top.film", "low.film"],
+            "`top.film` and `low.film` overlap",
+        ),
+        (
+            vec!["top.film"],
+            "gap: pixel (0, 12) has 0 of its 6 samples",
+        ),
+        (
+            vec!["top.film", "first.film"],
+            "gap: pixel (0, 12) has 3 of its 6",
+        ),
+        (
+            vec!["top.film", "seed4.film"],
+            "`seed4.film` is from another render than `top.film`: seed",
+        ),
+        (
+            vec!["top.film", "wide.film"],
+            "`wide.film` is from another render",
+        ),
+        (vec!["top.film", "cut.film"], "`cut.film`: truncated"),
+        (vec!["top.film", "flipped.film"], "`flipped.film`: corrupt"),
+        (
+            vec!["top.film", "notes.film"],
+            "`notes.film`: not a Strata film",
+        ),
+        (
+            vec!["top.film", "image.png"],
+            "`image.png`: not a Strata film",
+        ),
+        (
+            vec!["top.film", "missing.film"],
+            "cannot read `missing.film`",
+        ),
+    ] {
+        let mut args = vec!["merge"];
+        args.extend_from_slice(&parts);
+        args.extend_from_slice(&["-o", "out.png"]);
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{parts:?}: {e}");
+    }
+    // The good pair merges.
+    ok(d, &["merge", "top.film", "bottom.film", "-o", "out.png"]);
+    assert_eq!(bytes(&d.join("out.png")), bytes(&d.join("image.png")));
+}
+
+#[test]
+fn split_flags_are_checked_before_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, want) in [
+        (
+            vec!["render", "--spp", "4", "--samples", "3..3"],
+            "--samples",
+        ),
+        (
+            vec!["render", "--spp", "4", "--samples", "2..5"],
+            "past the 4 samples",
+        ),
+        (vec!["render", "--samples", "x"], "--samples"),
+        (vec!["render", "--crop", "0.5,0.5,0,1"], "--crop"),
+        (vec!["render", "--crop", "0,2,0,1"], "--crop"),
+        (vec!["render", "--crop", "0,1,0"], "--crop"),
+        (
+            vec!["render", "--crop", "0.95,0.96,0,1", "--width", "10"],
+            "holds no pixel",
+        ),
+        (
+            vec!["render", "--crop", "0,1,0,1", "--pixel-bounds", "0,1,0,1"],
+            "cannot be used with",
+        ),
+        (
+            vec!["render", "--width", "10", "--pixel-bounds", "0,11,0,1"],
+            "outside",
+        ),
+        (vec!["render", "--stats", "facts.txt"], ".json"),
+        (vec!["render", "-o", "x.jpg"], ".film"),
+        (vec!["merge", "-o", "x.png"], "PARTS"),
+        (vec!["merge", "a.film", "-o", "x.tif"], ".png or .exr"),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+}
+
+#[test]
+fn stats_hold_run_facts_and_images_do_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(
+        d,
+        &[
+            "render",
+            "--width",
+            "24",
+            "--spp",
+            "2",
+            "--threads",
+            "1",
+            "--stats",
+            "s.json",
+            "-o",
+            "s.png",
+        ],
+    );
+    let facts: serde_json::Value =
+        serde_json::from_slice(&bytes(&d.join("s.json"))).expect("valid JSON");
+    assert_eq!(facts["threads"], 1);
+    assert!(facts["wall_seconds"].as_f64().unwrap() > 0.0);
+    assert_eq!(facts["simd"], strata::trace::simd_level().name());
+    assert_eq!(facts["camera_paths"], 24 * 13 * 2);
+    let png = String::from_utf8_lossy(&bytes(&d.join("s.png"))).into_owned();
+    assert!(png.contains("strata.version") && png.contains("strata.camera"));
+    assert!(!png.contains("threads") && !png.contains("avx") && !png.contains("sse2"));
+}
+
+#[test]
+fn verify_reproduces_the_golden_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(dir.path(), &["verify", "--threads", "2"]);
+    let rows = strata_runner::golden::GOLDEN.len();
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("pass  ")).count(),
+        rows,
+        "{out}"
+    );
+    assert!(
+        out.contains(&format!("all {rows} golden renders match")),
+        "{out}"
+    );
+    assert!(listing(dir.path()).is_empty(), "verify writes no file");
+}

@@ -1,0 +1,439 @@
+//! Partial films on disk, and merging them.
+//!
+//! A render of part of a frame (a pixel window, a range of sample indices,
+//! or both) is saved as a `.film`: the exact per-pixel sums of
+//! [`PixelSum`] (integers, so adding parts is associative), the sample
+//! counts, and the [`RenderKey`] that defines the pixels. [`merge`] adds any
+//! set of parts that partitions `image × samples` exactly, so the merged
+//! image is bit-identical to the one-shot render; it refuses overlaps, gaps
+//! and parts of another render.
+//!
+//! The format (version 1) is a text header and a binary body:
+//!
+//! ```text
+//! strata-film 1
+//! version=0.1.0+r1
+//! scene=cover
+//! ...                      the RenderKey fields, then:
+//! window=x0,x1,y0,y1       pixels covered, half-open
+//! samples=A..B             sample indices covered, half-open
+//! checksum=<16 hex digits> FNV-1a 64 of the body
+//!                          (an empty line ends the header)
+//! body: one record per window pixel, row-major, 32 bytes each,
+//!       little-endian: sum r, g, b as i64 (units of 2^-24), samples u32,
+//!       dropped u32.
+//! ```
+
+use std::fmt::Write as _;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use strata::render::{PixelSum, Tile};
+
+use crate::render::Job;
+
+/// The first line of every film file.
+pub const MAGIC: &str = "strata-film 1";
+
+/// Bytes per pixel in a film's body.
+pub const BYTES_PER_PIXEL: usize = 32;
+
+/// What defines a render's pixels: two parts merge only if every field
+/// agrees. Values are kept as the strings written to files, so comparing
+/// and reporting a difference need no parsing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RenderKey {
+    fields: Vec<(&'static str, String)>,
+    width: u32,
+    height: u32,
+    spp: u32,
+}
+
+/// The field names of a [`RenderKey`], in file order.
+pub const KEY_FIELDS: [&str; 11] = [
+    "version",
+    "scene",
+    "scene_hash",
+    "camera",
+    "size",
+    "spp",
+    "sampler",
+    "seed",
+    "max_depth",
+    "direct_lighting",
+    "filter",
+];
+
+impl RenderKey {
+    /// The key of `job`.
+    #[must_use]
+    pub fn of(job: &Job<'_>) -> Self {
+        let c = &job.scene.camera;
+        let values = [
+            version(),
+            job.scene.name.clone(),
+            format!("{:016x}", job.scene.content_hash()),
+            format!(
+                "from {:?} at {:?} up {:?} vfov {:?} defocus {:?} focus {:?}",
+                c.look_from.to_array(),
+                c.look_at.to_array(),
+                c.up.to_array(),
+                c.vfov_deg,
+                c.defocus_angle_deg,
+                c.focus_dist
+            ),
+            format!("{}x{}", job.width, job.height),
+            job.spp.to_string(),
+            job.sampler.name().to_string(),
+            job.seed.to_string(),
+            job.max_depth.to_string(),
+            job.direct_lighting.to_string(),
+            // The BVH is not in the key: it never changes a pixel.
+            "box".to_string(),
+        ];
+        RenderKey {
+            fields: KEY_FIELDS.into_iter().zip(values).collect(),
+            width: job.width,
+            height: job.height,
+            spp: job.spp,
+        }
+    }
+
+    /// Image width.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Image height.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Samples per pixel of the whole render.
+    #[must_use]
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    /// The fields as (name, value), in file order.
+    #[must_use]
+    pub fn fields(&self) -> &[(&'static str, String)] {
+        &self.fields
+    }
+
+    /// The value of field `name`.
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&str> {
+        self.fields
+            .iter()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The first field where `other` differs: (name, ours, theirs).
+    #[must_use]
+    pub fn first_difference<'a>(
+        &'a self,
+        other: &'a RenderKey,
+    ) -> Option<(&'a str, &'a str, &'a str)> {
+        self.fields
+            .iter()
+            .zip(&other.fields)
+            .find(|(a, b)| a.1 != b.1)
+            .map(|(a, b)| (a.0, a.1.as_str(), b.1.as_str()))
+    }
+}
+
+/// The crate version and the output revision: a change of either may
+/// change pixels, so parts of different builds do not merge.
+#[must_use]
+pub fn version() -> String {
+    format!(
+        "{}+r{}",
+        env!("CARGO_PKG_VERSION"),
+        strata::render::OUTPUT_REVISION
+    )
+}
+
+/// `x0,x1,y0,y1` of a window.
+#[must_use]
+pub fn window_text(w: Tile) -> String {
+    format!("{},{},{},{}", w.x0, w.x0 + w.width, w.y0, w.y0 + w.height)
+}
+
+/// A part of a render: the pixels of `window`, samples `samples` of each.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Film {
+    /// What render this is part of.
+    pub key: RenderKey,
+    /// The pixels covered.
+    pub window: Tile,
+    /// The sample indices covered.
+    pub samples: Range<u32>,
+    /// One accumulator per window pixel, row-major.
+    pub pixels: Vec<PixelSum>,
+}
+
+impl Film {
+    /// The image metadata of this film (PNG text chunks, EXR attributes):
+    /// what defines it, nothing that varies between runs.
+    #[must_use]
+    pub fn metadata(&self, transfer: &str) -> Vec<(String, String)> {
+        let mut out = vec![(
+            "Software".to_string(),
+            format!("strata {}", env!("CARGO_PKG_VERSION")),
+        )];
+        for (k, v) in self.key.fields() {
+            out.push((format!("strata.{k}"), v.clone()));
+        }
+        out.push(("strata.window".into(), window_text(self.window)));
+        out.push((
+            "strata.samples".into(),
+            format!("{}..{}", self.samples.start, self.samples.end),
+        ));
+        out.push(("strata.transfer".into(), transfer.into()));
+        out
+    }
+
+    /// The file bytes: header and body.
+    #[must_use]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
+        for p in &self.pixels {
+            for s in p.sum {
+                body.extend_from_slice(&s.to_le_bytes());
+            }
+            body.extend_from_slice(&p.samples.to_le_bytes());
+            body.extend_from_slice(&p.dropped.to_le_bytes());
+        }
+        let mut head = String::new();
+        writeln!(head, "{MAGIC}").unwrap();
+        for (k, v) in self.key.fields() {
+            writeln!(head, "{k}={v}").unwrap();
+        }
+        writeln!(head, "window={}", window_text(self.window)).unwrap();
+        writeln!(head, "samples={}..{}", self.samples.start, self.samples.end).unwrap();
+        writeln!(head, "checksum={:016x}", fnv(&body)).unwrap();
+        writeln!(head).unwrap();
+        let mut out = head.into_bytes();
+        out.extend_from_slice(&body);
+        out
+    }
+
+    /// Parses a film file's bytes; errors say what is wrong, not where
+    /// (the caller adds the file name).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Film> {
+        let not_film = || anyhow::anyhow!("not a Strata film (no `{MAGIC}` line)");
+        let first = bytes
+            .iter()
+            .position(|&b| b == b'\n')
+            .ok_or_else(not_film)?;
+        if &bytes[..first] != MAGIC.as_bytes() {
+            if bytes.starts_with(b"strata-film ") {
+                bail!(
+                    "a film of another format version (`{}`; this build reads `{MAGIC}`)",
+                    String::from_utf8_lossy(&bytes[..first])
+                );
+            }
+            return Err(not_film());
+        }
+        let end = find(bytes, b"\n\n").context("truncated: the header does not end")?;
+        let head = std::str::from_utf8(&bytes[first + 1..end]).context("header is not UTF-8")?;
+        let body = &bytes[end + 2..];
+        let mut map: Vec<(&str, &str)> = Vec::new();
+        for line in head.lines() {
+            let (k, v) = line
+                .split_once('=')
+                .with_context(|| format!("header line `{line}` is not key=value"))?;
+            map.push((k, v));
+        }
+        let get = |name: &str| -> Result<&str> {
+            map.iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| *v)
+                .with_context(|| format!("header has no `{name}`"))
+        };
+        let fields: Vec<(&'static str, String)> = KEY_FIELDS
+            .iter()
+            .map(|&k| get(k).map(|v| (k, v.to_string())))
+            .collect::<Result<_>>()?;
+        let (width, height) = get("size")?
+            .split_once('x')
+            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+            .context("bad `size`")?;
+        let spp: u32 = get("spp")?.parse().context("bad `spp`")?;
+        let window = parse_window(get("window")?).context("bad `window`")?;
+        let samples = parse_samples(get("samples")?).context("bad `samples`")?;
+        if width == 0 || height == 0 || spp == 0 {
+            bail!("empty image or zero spp");
+        }
+        if window.x0 + window.width > width || window.y0 + window.height > height {
+            bail!(
+                "window {} is outside the {width}x{height} image",
+                window_text(window)
+            );
+        }
+        if samples.end > spp {
+            bail!(
+                "samples {}..{} exceed spp {spp}",
+                samples.start,
+                samples.end
+            );
+        }
+        let need = window.area() * BYTES_PER_PIXEL;
+        if body.len() != need {
+            bail!(
+                "truncated or padded: {} bytes of pixels where the window needs {need}",
+                body.len()
+            );
+        }
+        let sum = u64::from_str_radix(get("checksum")?, 16).context("bad `checksum`")?;
+        if sum != fnv(body) {
+            bail!("corrupt: the pixel checksum does not match");
+        }
+        let pixels = body
+            .chunks_exact(BYTES_PER_PIXEL)
+            .map(|r| {
+                let i = |k: usize| i64::from_le_bytes(r[8 * k..8 * k + 8].try_into().unwrap());
+                let u = |o: usize| u32::from_le_bytes(r[o..o + 4].try_into().unwrap());
+                PixelSum {
+                    sum: [i(0), i(1), i(2)],
+                    samples: u(24),
+                    dropped: u(28),
+                }
+            })
+            .collect();
+        Ok(Film {
+            key: RenderKey {
+                fields,
+                width,
+                height,
+                spp,
+            },
+            window,
+            samples,
+            pixels,
+        })
+    }
+
+    /// Reads a film file; errors name it.
+    pub fn read(path: &Path) -> Result<Film> {
+        let bytes =
+            std::fs::read(path).with_context(|| format!("cannot read `{}`", path.display()))?;
+        Film::from_bytes(&bytes).with_context(|| format!("`{}`", path.display()))
+    }
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Parses `x0,x1,y0,y1` into a non-empty window.
+fn parse_window(s: &str) -> Option<Tile> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|t| t.parse().ok())
+        .collect::<Option<_>>()?;
+    let [x0, x1, y0, y1] = v[..] else { return None };
+    (x0 < x1 && y0 < y1).then_some(Tile {
+        x0,
+        y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
+}
+
+/// Parses `A..B` with `A < B`.
+pub fn parse_samples(s: &str) -> Option<Range<u32>> {
+    let (a, b) = s.split_once("..")?;
+    let (a, b): (u32, u32) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
+    (a < b).then_some(a..b)
+}
+
+/// FNV-1a, 64-bit.
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+fn overlap(a: &Range<u32>, b: &Range<u32>) -> Option<Range<u32>> {
+    let r = a.start.max(b.start)..a.end.min(b.end);
+    (r.start < r.end).then_some(r)
+}
+
+/// Merges parts that partition the whole image and every sample index
+/// exactly once into one whole film. `names` label the parts in errors
+/// (one per part). Refuses parts of different renders, overlaps and gaps.
+pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
+    assert_eq!(parts.len(), names.len());
+    let Some(first) = parts.first() else {
+        bail!("nothing to merge");
+    };
+    let name = |i: usize| names[i].display().to_string();
+    for (i, p) in parts.iter().enumerate().skip(1) {
+        if let Some((field, ours, theirs)) = first.key.first_difference(&p.key) {
+            bail!(
+                "`{}` is from another render than `{}`: {field} is `{theirs}`, not `{ours}`",
+                name(i),
+                name(0)
+            );
+        }
+    }
+    let (w, h, spp) = (first.key.width(), first.key.height(), first.key.spp());
+    let cols = |t: &Tile| t.x0..t.x0 + t.width;
+    let rows = |t: &Tile| t.y0..t.y0 + t.height;
+    // Pairwise overlap: the windows and the sample ranges both meet.
+    for i in 0..parts.len() {
+        for j in i + 1..parts.len() {
+            let (a, b) = (&parts[i], &parts[j]);
+            if let (Some(x), Some(y), Some(s)) = (
+                overlap(&cols(&a.window), &cols(&b.window)),
+                overlap(&rows(&a.window), &rows(&b.window)),
+                overlap(&a.samples, &b.samples),
+            ) {
+                bail!(
+                    "`{}` and `{}` overlap: both hold pixels x {}..{}, y {}..{}, samples {}..{}",
+                    name(i),
+                    name(j),
+                    x.start,
+                    x.end,
+                    y.start,
+                    y.end,
+                    s.start,
+                    s.end
+                );
+            }
+        }
+    }
+    // With no overlap, a pixel is complete exactly when the sample ranges
+    // covering it add up to spp.
+    let mut pixels = vec![PixelSum::ZERO; (w as usize) * (h as usize)];
+    let mut covered = vec![0u64; pixels.len()];
+    for p in parts {
+        let n = (p.samples.end - p.samples.start) as u64;
+        for (r, y) in rows(&p.window).enumerate() {
+            for (c, x) in cols(&p.window).enumerate() {
+                let at = y as usize * w as usize + x as usize;
+                covered[at] += n;
+                pixels[at].merge(&p.pixels[r * p.window.width as usize + c]);
+            }
+        }
+    }
+    if let Some(at) = covered.iter().position(|&c| c != spp as u64) {
+        let (x, y) = (at % w as usize, at / w as usize);
+        bail!(
+            "the parts leave a gap: pixel ({x}, {y}) has {} of its {spp} samples",
+            covered[at]
+        );
+    }
+    Ok(Film {
+        key: first.key.clone(),
+        window: crate::render::whole(w, h),
+        samples: 0..spp,
+        pixels,
+    })
+}
