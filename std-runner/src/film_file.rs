@@ -31,7 +31,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use strata::render::{PixelSum, Tile};
 
+use crate::cli::MAX_PIXELS;
 use crate::render::Job;
+use crate::scene_file::{MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
 pub const MAGIC: &str = "strata-film 1";
@@ -270,6 +272,15 @@ impl Film {
         if width == 0 || height == 0 || spp == 0 {
             bail!("empty image or zero spp");
         }
+        // The limits `strata render` accepts, so a hostile header cannot
+        // ask a merge for a huge allocation.
+        if width > MAX_WIDTH
+            || height > MAX_WIDTH
+            || width as u64 * height as u64 > MAX_PIXELS
+            || spp > MAX_SPP
+        {
+            bail!("size {width}x{height} or spp {spp} is beyond what strata renders");
+        }
         if window.x0 + window.width > width || window.y0 + window.height > height {
             bail!(
                 "window {} is outside the {width}x{height} image",
@@ -305,7 +316,20 @@ impl Film {
                     dropped: u(28),
                 }
             })
-            .collect();
+            .collect::<Vec<PixelSum>>();
+        // Every pixel took every sample of the range, kept or dropped.
+        let n = samples.end - samples.start;
+        if let Some(at) = pixels
+            .iter()
+            .position(|p| p.samples.checked_add(p.dropped) != Some(n))
+        {
+            bail!(
+                "pixel {at} of the window holds {} samples where the range {}..{} has {n}",
+                pixels[at].samples as u64 + pixels[at].dropped as u64,
+                samples.start,
+                samples.end
+            );
+        }
         Ok(Film {
             key: RenderKey {
                 fields,
@@ -338,7 +362,8 @@ fn parse_window(s: &str) -> Option<Tile> {
         .map(|t| t.parse().ok())
         .collect::<Option<_>>()?;
     let [x0, x1, y0, y1] = v[..] else { return None };
-    (x0 < x1 && y0 < y1).then_some(Tile {
+    // `then`, not `then_some`: the widths must not be computed when empty.
+    (x0 < x1 && y0 < y1).then(|| Tile {
         x0,
         y0,
         width: x1 - x0,
@@ -436,4 +461,109 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
         samples: 0..spp,
         pixels,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
+        let job_key = |k: &str| match k {
+            "size" => format!("{width}x{height}"),
+            "spp" => "8".to_string(),
+            _ => format!("{k}-value"),
+        };
+        let n = samples.end - samples.start;
+        Film {
+            key: RenderKey {
+                fields: KEY_FIELDS.iter().map(|&k| (k, job_key(k))).collect(),
+                width,
+                height,
+                spp: 8,
+            },
+            window,
+            pixels: (0..window.area())
+                .map(|i| PixelSum {
+                    sum: [i as i64, -(i as i64), 1 << 40],
+                    samples: n - 1,
+                    dropped: 1,
+                })
+                .collect(),
+            samples,
+        }
+    }
+
+    fn tile(x0: u32, y0: u32, width: u32, height: u32) -> Tile {
+        Tile {
+            x0,
+            y0,
+            width,
+            height,
+        }
+    }
+
+    #[test]
+    fn films_round_trip_through_bytes() {
+        let f = film(7, 5, tile(2, 1, 3, 4), 2..5);
+        assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
+    }
+
+    fn refused(bytes: &[u8]) -> String {
+        format!("{:#}", Film::from_bytes(bytes).unwrap_err())
+    }
+
+    #[test]
+    fn damaged_or_hostile_films_are_refused() {
+        let good = film(7, 5, tile(2, 1, 3, 4), 2..5).to_bytes();
+        let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+        let edit = |from: &str, to: &str| {
+            let t = text(&good);
+            let (head, _) = t.split_once("\n\n").unwrap();
+            let body = &good[head.len() + 2..];
+            let mut out = head.replacen(from, to, 1).into_bytes();
+            out.extend_from_slice(b"\n\n");
+            out.extend_from_slice(body);
+            out
+        };
+        // A huge size would make a merge allocate it.
+        let e = refused(&edit("size=7x5", "size=4000000000x4000000000"));
+        assert!(e.contains("beyond what strata renders"), "{e}");
+        let e = refused(&edit("size=7x5", "size=4x5"));
+        assert!(e.contains("outside the 4x5 image"), "{e}");
+        let e = refused(&edit("samples=2..5", "samples=2..9"));
+        assert!(e.contains("exceed spp 8"), "{e}");
+        let e = refused(&edit("samples=2..5", "samples=1..5"));
+        assert!(
+            e.contains("holds 3 samples where the range 1..5 has 4"),
+            "{e}"
+        );
+        let e = refused(&edit("window=2,5,1,5", "window=5,2,1,5"));
+        assert!(e.contains("bad `window`"), "{e}");
+        let e = refused(&edit("seed=seed-value\n", ""));
+        assert!(e.contains("no `seed`"), "{e}");
+        let e = refused(&good[..good.len() - 1]);
+        assert!(e.contains("truncated"), "{e}");
+        let e = refused(&good[..40]);
+        assert!(e.contains("truncated"), "{e}");
+        let e = refused(b"strata-film 2\n");
+        assert!(e.contains("another format version"), "{e}");
+        let e = refused(b"");
+        assert!(e.contains("not a Strata film"), "{e}");
+    }
+
+    #[test]
+    fn merge_names_the_first_differing_field() {
+        let a = film(4, 2, tile(0, 0, 2, 2), 0..8);
+        let mut b = film(4, 2, tile(2, 0, 2, 2), 0..8);
+        b.key.fields[3].1 = "another camera".into();
+        let names = [PathBuf::from("a"), PathBuf::from("b")];
+        let e = merge(&[a.clone(), b], &names).unwrap_err().to_string();
+        assert!(
+            e.contains("`b` is from another render than `a`: camera"),
+            "{e}"
+        );
+        let ok = merge(&[a.clone(), film(4, 2, tile(2, 0, 2, 2), 0..8)], &names).unwrap();
+        assert_eq!(ok.pixels[0], a.pixels[0]);
+        assert_eq!(ok.window, tile(0, 0, 4, 2));
+    }
 }
