@@ -64,6 +64,7 @@ fn check<S: Sampler + Clone>(name: &str, sampler: S, direct_lighting: bool) {
     let settings = RenderSettings {
         max_depth: data.defaults.max_depth,
         direct_lighting,
+        filter: strata::render::PixelFilter::BOX,
     };
     let tile = Tile {
         x0: 8,

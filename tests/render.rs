@@ -129,6 +129,7 @@ fn course_camera(w: u32, h: u32) -> Camera {
 const SETTINGS: RenderSettings = RenderSettings {
     max_depth: 6,
     direct_lighting: true,
+    filter: strata::render::PixelFilter::BOX,
 };
 
 fn render<S: Sampler + Clone>(
@@ -450,6 +451,7 @@ fn sphere_light_irradiance_is_right_with_and_without_mis() {
         let settings = RenderSettings {
             max_depth: 2,
             direct_lighting: nee,
+            filter: strata::render::PixelFilter::BOX,
         };
         let mut s = Independent::new(n, 5).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -488,6 +490,7 @@ fn lit(extra: &[(Sphere, u32)], at: Vec3) -> f32 {
     let settings = RenderSettings {
         max_depth: 2,
         direct_lighting: true,
+        filter: strata::render::PixelFilter::BOX,
     };
     let desc = CameraDesc {
         look_from: at + Vec3::new(0.02, 0.05, 0.0),
@@ -572,6 +575,7 @@ fn two_lights_add_up() {
         let settings = RenderSettings {
             max_depth: 2,
             direct_lighting: nee,
+            filter: strata::render::PixelFilter::BOX,
         };
         let mut s = Independent::new(n, 8).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -628,6 +632,7 @@ fn furnace_with_lights_and_mis() {
     let settings = RenderSettings {
         max_depth: 64,
         direct_lighting: true,
+        filter: strata::render::PixelFilter::BOX,
     };
     let mut sampler = Independent::new(1, 2).unwrap();
     let (mut sum, mut sum2, mut n) = (0.0f64, 0.0f64, 0u32);
@@ -669,6 +674,7 @@ fn render_tile_refuses_bad_requests() {
     let bad_depth = RenderSettings {
         max_depth: 0,
         direct_lighting: true,
+        filter: strata::render::PixelFilter::BOX,
     };
     assert_eq!(
         render_tile(&scene, &cam, &s, &bad_depth, tile, 0..1, &mut film),
@@ -736,6 +742,7 @@ fn white_furnace() {
     let settings = RenderSettings {
         max_depth: 64,
         direct_lighting: true,
+        filter: strata::render::PixelFilter::BOX,
     };
     let tile = Tile {
         x0: 0,

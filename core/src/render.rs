@@ -19,6 +19,7 @@ mod material;
 mod scene;
 mod texture;
 
+pub use crate::filter::PixelFilter;
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum, to_fixed};
 pub use integrator::{

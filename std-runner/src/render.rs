@@ -143,6 +143,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     let settings = RenderSettings {
         max_depth: job.max_depth,
         direct_lighting: job.direct_lighting,
+        filter: strata::render::PixelFilter::BOX,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)

@@ -50,19 +50,24 @@ use super::film::PixelSum;
 use super::material::{Lobe, Material, SurfaceHit};
 use super::scene::Scene;
 use super::texture::sphere_uv;
+use crate::filter::PixelFilter;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
 use crate::onb::Onb;
 use crate::sampler::Sampler;
 use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, intersect_sphere};
 
 /// How paths are traced.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     /// Ray segments from the camera, at least 1.
     pub max_depth: u32,
     /// Next-event estimation from sphere lights (the course's "direct
     /// lighting"); without it lights are found by BSDF sampling alone.
     pub direct_lighting: bool,
+    /// The pixel filter, applied by importance sampling: each sample's
+    /// offset is drawn from it and its radiance weighted by `f / pdf`
+    /// ([`PixelFilter::BOX`] is the course's: weight 1).
+    pub filter: PixelFilter,
 }
 
 /// A rectangle of the image: `width × height` pixels from `(x0, y0)`.
@@ -282,14 +287,21 @@ fn trace_path<S: Sampler>(
     radiance
 }
 
-/// The camera ray of sample `index` of `pixel`; leaves the sampler after
-/// the camera's dimensions (pixel 0–1, lens 2–3).
+/// The camera ray of sample `index` of `pixel` and the filter weight of
+/// the sample; leaves the sampler after the camera's dimensions (pixel
+/// 0–1, lens 2–3).
 #[inline]
-fn camera_ray<S: Sampler>(camera: &Camera, sampler: &mut S, pixel: UVec2, index: u32) -> Ray {
+fn camera_ray<S: Sampler>(
+    camera: &Camera,
+    filter: &PixelFilter,
+    sampler: &mut S,
+    pixel: UVec2,
+    index: u32,
+) -> (Ray, f32) {
     sampler.start_pixel_sample(pixel, index);
-    let offset = sampler.pixel_2d();
+    let f = filter.pixel_sample(sampler.pixel_2d());
     let lens = sampler.next_2d();
-    camera.ray(pixel, offset, lens)
+    (camera.ray(pixel, f.offset, lens), f.weight)
 }
 
 /// The radiance of sample `index` of `pixel`, one ray at a time: the
@@ -311,7 +323,7 @@ fn camera_ray<S: Sampler>(camera: &Camera, sampler: &mut S, pixel: UVec2, index:
 ///     vfov_deg: 30.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
 /// };
 /// let camera = Camera::new(&desc, 8, 8).unwrap();
-/// let settings = RenderSettings { max_depth: 50, direct_lighting: true };
+/// let settings = RenderSettings { max_depth: 50, direct_lighting: true, filter: PixelFilter::BOX };
 /// let mut sampler = Independent::new(1, 7).unwrap();
 /// let l = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
 /// assert!((l - Vec3::ONE).abs().max_element() < 1e-5); // every path sees 1
@@ -325,7 +337,7 @@ pub fn pixel_sample<S: Sampler>(
     pixel: UVec2,
     index: u32,
 ) -> Vec3 {
-    let ray = camera_ray(camera, sampler, pixel, index);
+    let (ray, weight) = camera_ray(camera, &settings.filter, sampler, pixel, index);
     let first = scene.closest_hit(&ray);
     trace_path(
         scene,
@@ -334,7 +346,7 @@ pub fn pixel_sample<S: Sampler>(
         ray,
         first,
         &mut TileStats::default(),
-    )
+    ) * weight
 }
 
 /// Renders samples `samples` of every pixel of `tile` and adds them to
@@ -379,6 +391,7 @@ pub fn render_tile<S: Sampler + Clone>(
     let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+    let mut weights = [1.0f32; 8];
     for row in 0..tile.height {
         let y = tile.y0 + row;
         let mut col = 0;
@@ -386,7 +399,8 @@ pub fn render_tile<S: Sampler + Clone>(
             let n = (tile.width - col).min(8) as usize;
             for index in samples.clone() {
                 for (l, (s, r)) in lanes.iter_mut().zip(rays.iter_mut()).take(n).enumerate() {
-                    *r = camera_ray(camera, s, UVec2::new(tile.x0 + col + l as u32, y), index);
+                    let pixel = UVec2::new(tile.x0 + col + l as u32, y);
+                    (*r, weights[l]) = camera_ray(camera, &settings.filter, s, pixel, index);
                 }
                 let mut hits = HitPacket8::NONE;
                 scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), &mut hits);
@@ -399,7 +413,7 @@ pub fn render_tile<S: Sampler + Clone>(
                         hits.hit(l),
                         &mut stats,
                     );
-                    film[(row * tile.width + col) as usize + l].add_sample(v);
+                    film[(row * tile.width + col) as usize + l].add_sample(v * weights[l]);
                 }
             }
             col += n as u32;
