@@ -298,9 +298,7 @@ fn tracing_lock() {
 fn render_lock() {
     // The golden table of `strata verify`: every built-in scene and the
     // example scene file under every sampler, rendered through the
-    // runner (BVH where it would be used). Each entry is rendered on 1
-    // thread and on 2 with another tile size inside `verify`'s job; the
-    // table itself is the lock.
+    // runner (BVH where it would be used) on 2 threads in tiles of 8.
     use strata_runner::golden;
     let outcomes = golden::verify(2, &mut |_| {}).unwrap();
     let table = golden::table_source(&outcomes);
@@ -322,5 +320,23 @@ fn render_lock() {
             .iter()
             .find(|e| e.0 == "cover" && e.1 == "sobol")
             .map(|e| e.2)
+    );
+}
+
+/// The table and the output revision move together: merges refuse parts
+/// of another revision, so a table edit without a new
+/// `strata::render::OUTPUT_REVISION` would let parts of different pixels
+/// merge.
+#[test]
+fn golden_table_is_pinned_to_the_output_revision() {
+    let text: String = strata_runner::golden::GOLDEN
+        .iter()
+        .map(|(s, k, h)| format!("{s} {k} {h:016x}\n"))
+        .collect();
+    let digest = fnv(text.bytes().map(u32::from));
+    assert_eq!(
+        (strata::render::OUTPUT_REVISION, digest),
+        (1, 0x0616e8c5e021481f),
+        "the golden table changed: raise OUTPUT_REVISION and update this pin. {CHANGED}"
     );
 }

@@ -572,7 +572,8 @@ fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
 /// The pixel window of a `--crop` in a `width × height` image: pbrt's
 /// rule, `ceil(fraction × size)` at both ends.
 fn crop_to_window(c: [f32; 4], width: u32, height: u32) -> Result<Tile> {
-    let at = |f: f32, n: u32| (f as f64 * n as f64).ceil() as u32;
+    // The product in f32, as pbrt computes it: 0.2 × 10 rounds to 2.
+    let at = |f: f32, n: u32| (f * n as f32).ceil() as u32;
     let (x0, x1, y0, y1) = (
         at(c[0], width),
         at(c[1], width),
@@ -836,6 +837,14 @@ pub struct MergeArgs {
 /// is written; a refused merge writes nothing.
 pub fn merge(args: &MergeArgs) -> Result<()> {
     check_output_or_film(&args.output)?;
+    if let Ok(out) = args.output.canonicalize()
+        && let Some(p) = args
+            .parts
+            .iter()
+            .find(|p| p.canonicalize().is_ok_and(|p| p == out))
+    {
+        bail!("the output `{}` is one of the parts", p.display());
+    }
     let parts: Vec<Film> = args
         .parts
         .iter()
@@ -844,8 +853,9 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     let film = crate::film_file::merge(&parts, &args.parts)?;
     write_film_or_image(&args.output, &film, args.gamma)?;
     say(&format!(
-        "merged {} parts: {} {}x{}, {} spp, to {}",
+        "merged {} part{}: {} {}x{}, {} spp, to {}",
         parts.len(),
+        if parts.len() == 1 { "" } else { "s" },
         film.key.get("scene").unwrap_or("?"),
         film.key.width(),
         film.key.height(),

@@ -95,7 +95,12 @@ impl RenderKey {
             "box".to_string(),
         ];
         RenderKey {
-            fields: KEY_FIELDS.into_iter().zip(values).collect(),
+            // A value is one header line: control characters (a scene file
+            // named with a newline) become U+FFFD.
+            fields: KEY_FIELDS
+                .into_iter()
+                .zip(values.map(|v| v.replace(char::is_control, "\u{fffd}")))
+                .collect(),
             width: job.width,
             height: job.height,
             spp: job.spp,
@@ -242,14 +247,21 @@ impl Film {
             }
             return Err(not_film());
         }
-        let end = find(bytes, b"\n\n").context("truncated: the header does not end")?;
-        let head = std::str::from_utf8(&bytes[first + 1..end]).context("header is not UTF-8")?;
+        // The header's end is searched from the magic line's newline on, so
+        // an empty header is found as such, not before the magic line ends.
+        let end =
+            first + find(&bytes[first..], b"\n\n").context("truncated: the header does not end")?;
+        let head = std::str::from_utf8(&bytes[first + 1..end.max(first + 1)])
+            .context("header is not UTF-8")?;
         let body = &bytes[end + 2..];
         let mut map: Vec<(&str, &str)> = Vec::new();
         for line in head.lines() {
             let (k, v) = line
                 .split_once('=')
                 .with_context(|| format!("header line `{line}` is not key=value"))?;
+            if map.iter().any(|(seen, _)| *seen == k) {
+                bail!("header repeats `{k}`");
+            }
             map.push((k, v));
         }
         let get = |name: &str| -> Result<&str> {
@@ -409,6 +421,22 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
         }
     }
     let (w, h, spp) = (first.key.width(), first.key.height(), first.key.spp());
+    // Films built in code rather than read: the same checks as `from_bytes`.
+    for (i, p) in parts.iter().enumerate() {
+        let t = &p.window;
+        let inside = t.x0.checked_add(t.width).is_some_and(|x| x <= w)
+            && t.y0.checked_add(t.height).is_some_and(|y| y <= h);
+        if !inside
+            || p.pixels.len() != t.area()
+            || p.samples.start >= p.samples.end
+            || p.samples.end > spp
+        {
+            bail!(
+                "`{}` is inconsistent: its window, pixels or samples do not fit the render",
+                name(i)
+            );
+        }
+    }
     let cols = |t: &Tile| t.x0..t.x0 + t.width;
     let rows = |t: &Tile| t.y0..t.y0 + t.height;
     // Pairwise overlap: the windows and the sample ranges both meet.
@@ -545,6 +573,10 @@ mod tests {
         assert!(e.contains("truncated"), "{e}");
         let e = refused(&good[..40]);
         assert!(e.contains("truncated"), "{e}");
+        let e = refused(b"strata-film 1\n\nxyz");
+        assert!(e.contains("no `version`"), "{e}");
+        let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
+        assert!(e.contains("repeats `seed`"), "{e}");
         let e = refused(b"strata-film 2\n");
         assert!(e.contains("another format version"), "{e}");
         let e = refused(b"");

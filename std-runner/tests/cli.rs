@@ -768,6 +768,22 @@ fn split_renders_merge_into_the_one_shot_image() {
     // A crop rendered straight to PNG is the window's pixels.
     cover_render(d, "crop.png", &["--crop", "0.45,1,0,0.5"]);
     assert_eq!(png_size(&d.join("crop.png")), (22, 11));
+    // pbrt's rule in f32: 0.2 × 10 rows is row 2, not 3.
+    ok(
+        d,
+        &[
+            "render",
+            "--width",
+            "18",
+            "--spp",
+            "1",
+            "--crop",
+            "0,1,0,0.2",
+            "-o",
+            "band.png",
+        ],
+    );
+    assert_eq!(png_size(&d.join("band.png")), (18, 2));
 }
 
 #[test]
@@ -831,6 +847,28 @@ fn merge_refuses_overlaps_gaps_and_strangers() {
             "wide.film",
         ],
     );
+    ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "week09",
+            "--width",
+            "40",
+            "--spp",
+            "6",
+            "--seed",
+            "3",
+            "--max-depth",
+            "6",
+            "--sampler",
+            "sobol",
+            "--pixel-bounds",
+            "0,40,12,22",
+            "-o",
+            "week.film",
+        ],
+    );
     let full = bytes(&d.join("bottom.film"));
     std::fs::write(d.join("cut.film"), &full[..full.len() - 100]).unwrap();
     let mut flipped = full.clone();
@@ -860,6 +898,10 @@ fn merge_refuses_overlaps_gaps_and_strangers() {
             vec!["top.film", "wide.film"],
             "`wide.film` is from another render",
         ),
+        (
+            vec!["top.film", "week.film"],
+            "`week.film` is from another render than `top.film`: scene",
+        ),
         (vec!["top.film", "cut.film"], "`cut.film`: truncated"),
         (vec!["top.film", "flipped.film"], "`flipped.film`: corrupt"),
         (
@@ -881,6 +923,9 @@ fn merge_refuses_overlaps_gaps_and_strangers() {
         let e = refused(d, &args);
         assert!(e.contains(want), "{parts:?}: {e}");
     }
+    // A merge never overwrites one of its parts.
+    let e = refused(d, &["merge", "top.film", "bottom.film", "-o", "top.film"]);
+    assert!(e.contains("one of the parts"), "{e}");
     // The good pair merges.
     ok(d, &["merge", "top.film", "bottom.film", "-o", "out.png"]);
     assert_eq!(bytes(&d.join("out.png")), bytes(&d.join("image.png")));
