@@ -6,6 +6,7 @@
 mod support;
 
 use glam::{UVec2, Vec2, Vec3};
+use strata::filter::{FilterKind, PixelFilter};
 use strata::mapping::{self, Cone, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::{Onb, Sampler, Stratified};
@@ -62,7 +63,53 @@ macro_rules! chi2_tests {
     };
 }
 
+/// Filter `k` of `FilterKind::ALL` at its usual radius (built once: the
+/// pdf is called for every histogram cell).
+fn filter(k: usize) -> &'static PixelFilter {
+    static FILTERS: std::sync::OnceLock<Vec<PixelFilter>> = std::sync::OnceLock::new();
+    &FILTERS.get_or_init(|| {
+        FilterKind::ALL
+            .iter()
+            .map(|&kind| PixelFilter::new(kind, kind.default_radius()).unwrap())
+            .collect()
+    })[k]
+}
+
+/// The square `[−r, r]²` a filter covers.
+fn filter_domain(k: usize) -> Domain {
+    let r = FilterKind::ALL[k].default_radius() as f64;
+    Domain::Rect {
+        x0: -r,
+        x1: r,
+        y0: -r,
+        y1: r,
+    }
+}
+
+/// Cells of the filter tests: each table cell (32 per axis) split 2 × 2,
+/// so the expected counts are exact and the test sees both the choice of
+/// cell and the uniformity within it.
+const FILTER_RES: (usize, usize) = (64, 64);
+
 chi2_tests! {
+    box_filter_chi2: filter_domain(0), FILTER_RES,
+        |rng| v2(filter(0).sample(uniform(&mut rng)).offset),
+        |p| filter(0).pdf(w2(p)) as f64;
+    tent_filter_chi2: filter_domain(1), FILTER_RES,
+        |rng| v2(filter(1).sample(uniform(&mut rng)).offset),
+        |p| filter(1).pdf(w2(p)) as f64;
+    gaussian_filter_chi2: filter_domain(2), FILTER_RES,
+        |rng| v2(filter(2).sample(uniform(&mut rng)).offset),
+        |p| filter(2).pdf(w2(p)) as f64;
+    mitchell_filter_chi2: filter_domain(3), FILTER_RES,
+        |rng| v2(filter(3).sample(uniform(&mut rng)).offset),
+        |p| filter(3).pdf(w2(p)) as f64;
+    lanczos_filter_chi2: filter_domain(4), FILTER_RES,
+        |rng| v2(filter(4).sample(uniform(&mut rng)).offset),
+        |p| filter(4).pdf(w2(p)) as f64;
+    blackman_harris_filter_chi2: filter_domain(5), FILTER_RES,
+        |rng| v2(filter(5).sample(uniform(&mut rng)).offset),
+        |p| filter(5).pdf(w2(p)) as f64;
     uniform_sphere_chi2: Domain::SPHERE, SPHERE_RES,
         |rng| v3(mapping::sample_uniform_sphere(uniform(&mut rng))),
         |p| mapping::pdf_uniform_sphere(w3(p)) as f64;

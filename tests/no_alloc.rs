@@ -127,6 +127,7 @@ fn allocations_do_not_grow_with_samples() {
                 tile: 16,
                 direct_lighting: true,
                 bvh: strata_runner::scenes::BvhMode::Auto,
+                filter: strata::render::PixelFilter::BOX,
             };
             // Once to warm up the thread pool's lazy state, then measured.
             run(&job, &|_| {}).unwrap();

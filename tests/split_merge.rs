@@ -36,6 +36,7 @@ fn job(
         tile: 4,
         direct_lighting: true,
         bvh: BvhMode::Auto,
+        filter: strata::render::PixelFilter::BOX,
     }
 }
 

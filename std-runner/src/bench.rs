@@ -697,6 +697,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             tile: 16,
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
+            filter: strata::render::PixelFilter::BOX,
         };
         let probe = run(&job(1), &|_| {})?;
         let paths = probe.stats.paths as f64;
@@ -750,6 +751,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
         tile: 16,
         direct_lighting: true,
         bvh,
+        filter: strata::render::PixelFilter::BOX,
     };
     let render = |name: &str, bvh| -> Contender<'_> {
         let j = job(bvh);

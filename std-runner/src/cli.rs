@@ -533,6 +533,15 @@ pub struct RenderArgs {
     /// Render only sample indices A..B-1 of every pixel (within 0..spp).
     #[arg(long, value_parser = sample_range)]
     pub samples: Option<std::ops::Range<u32>>,
+    /// Pixel reconstruction filter, applied by importance sampling (each
+    /// pixel depends only on its own samples).
+    #[arg(long, value_enum, default_value_t = FilterName::Box)]
+    pub filter: FilterName,
+    /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5
+    /// (σ 0.5), mitchell 2 (B = C = 1/3), lanczos 3 (τ 3),
+    /// blackman-harris 1.5].
+    #[arg(long, value_parser = positive_f32)]
+    pub filter_radius: Option<f32>,
     /// Output file: .png (8-bit), .exr (linear float), or .film (exact
     /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
@@ -540,6 +549,39 @@ pub struct RenderArgs {
     /// Write run facts (threads, wall time, SIMD level, rays) as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
+}
+
+/// The filters `--filter` offers, with their usual shape parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FilterName {
+    /// The course's: uniform over the pixel.
+    Box,
+    /// Triangle.
+    Tent,
+    /// Gaussian, σ = 0.5 pixel.
+    Gaussian,
+    /// Mitchell–Netravali, B = C = 1/3.
+    Mitchell,
+    /// Windowed sinc, τ = 3.
+    Lanczos,
+    /// 4-term Blackman–Harris window.
+    BlackmanHarris,
+}
+
+impl FilterName {
+    /// The filter of this name and `radius` (its usual one if `None`).
+    pub fn filter(self, radius: Option<f32>) -> Result<strata::render::PixelFilter> {
+        use strata::filter::FilterKind;
+        let kind = FilterKind::ALL[self as usize];
+        let r = radius.unwrap_or(kind.default_radius());
+        strata::render::PixelFilter::new(kind, r).map_err(|e| {
+            anyhow::anyhow!(
+                "--filter {} --filter-radius {r}: {e:?} (the radius must be in (0, {}])",
+                kind.name(),
+                strata::filter::FILTER_MAX_RADIUS
+            )
+        })
+    }
 }
 
 /// Parses `x0,x1,y0,y1` fractions in [0, 1] with x0 < x1, y0 < y1.
@@ -653,6 +695,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         (None, Some(b)) => window_of(b, width, height)?,
         (None, None) => crate::render::whole(width, height),
     };
+    let filter = args.filter.filter(args.filter_radius)?;
     let samples = args.samples.clone().unwrap_or(0..spp);
     if samples.end > spp {
         bail!(
@@ -684,6 +727,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         tile: args.tile,
         direct_lighting: !args.no_direct_lighting,
         bvh: args.bvh,
+        filter,
     };
     let bar = if std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(window.area() as u64);

@@ -92,7 +92,7 @@ impl RenderKey {
             job.max_depth.to_string(),
             job.direct_lighting.to_string(),
             // The BVH is not in the key: it never changes a pixel.
-            "box".to_string(),
+            filter_text(&job.filter),
         ];
         RenderKey {
             // A value is one header line: control characters (a scene file
@@ -151,6 +151,19 @@ impl RenderKey {
             .zip(&other.fields)
             .find(|(a, b)| a.1 != b.1)
             .map(|(a, b)| (a.0, a.1.as_str(), b.1.as_str()))
+    }
+}
+
+/// A filter as text: its name, radius and shape parameters.
+#[must_use]
+pub fn filter_text(f: &strata::render::PixelFilter) -> String {
+    use strata::filter::FilterKind;
+    let r = f.radius();
+    match f.kind() {
+        FilterKind::Gaussian { sigma } => format!("gaussian r={r:?} sigma={sigma:?}"),
+        FilterKind::Mitchell { b, c } => format!("mitchell r={r:?} b={b:?} c={c:?}"),
+        FilterKind::Lanczos { tau } => format!("lanczos r={r:?} tau={tau:?}"),
+        k => format!("{} r={r:?}", k.name()),
     }
 }
 

@@ -142,6 +142,7 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
         tile: 8,
         direct_lighting: true,
         bvh: BvhMode::Auto,
+        filter: strata::render::PixelFilter::BOX,
     };
     Ok(film_hash(&run(&job, &|_| {})?.pixels))
 }

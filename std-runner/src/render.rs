@@ -82,6 +82,8 @@ pub struct Job<'a> {
     pub direct_lighting: bool,
     /// Whether to trace through a BVH.
     pub bvh: BvhMode,
+    /// The pixel filter (`PixelFilter::BOX` is the course's).
+    pub filter: strata::render::PixelFilter,
 }
 
 /// The window of every pixel of a `width × height` image.
@@ -143,7 +145,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     let settings = RenderSettings {
         max_depth: job.max_depth,
         direct_lighting: job.direct_lighting,
-        filter: strata::render::PixelFilter::BOX,
+        filter: job.filter,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)

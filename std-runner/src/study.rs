@@ -94,6 +94,7 @@ impl View<'_> {
             tile: 16,
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
+            filter: strata::render::PixelFilter::BOX,
         };
         Ok(run(&job, &|_| {})?
             .pixels

@@ -1017,3 +1017,58 @@ fn verify_reproduces_the_golden_table() {
     );
     assert!(listing(dir.path()).is_empty(), "verify writes no file");
 }
+
+#[test]
+fn filters_are_chosen_on_the_command_line_and_named_in_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let render = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", "--scene", "horizon", "--width", "48", "--spp", "2",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", name]);
+        ok(d, &args);
+        bytes(&d.join(name))
+    };
+    let boxed = render("box.png", &[]);
+    let mitchell = render("m.png", &["--filter", "mitchell"]);
+    assert_ne!(boxed, mitchell);
+    let text = String::from_utf8_lossy(&mitchell).into_owned();
+    assert!(
+        text.contains("mitchell r=2.0 b=0.33333334 c=0.33333334"),
+        "metadata"
+    );
+    assert!(String::from_utf8_lossy(&boxed).contains("box r=0.5"));
+    let wide = render(
+        "t.png",
+        &[
+            "--filter",
+            "tent",
+            "--filter-radius",
+            "2.5",
+            "--threads",
+            "1",
+        ],
+    );
+    assert!(String::from_utf8_lossy(&wide).contains("tent r=2.5"));
+    // Tiles stay independent with a wide filter.
+    assert_eq!(
+        render(
+            "t2.png",
+            &["--filter", "tent", "--filter-radius", "2.5", "--tile", "5"]
+        ),
+        wide
+    );
+    for (args, want) in [
+        (vec!["render", "--filter", "sinc"], "--filter"),
+        (
+            vec!["render", "--filter", "tent", "--filter-radius", "9"],
+            "radius must be in (0, 8]",
+        ),
+        (vec!["render", "--filter-radius", "0"], "--filter-radius"),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+}
