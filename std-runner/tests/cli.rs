@@ -802,19 +802,18 @@ fn merge_refuses_overlaps_gaps_and_strangers() {
         "first.film",
         &["--pixel-bounds", "0,40,12,22", "--samples", "0..3"],
     );
-    // Another seed, another scene size.
-    ok(
-        d,
-        &[
+    // Another seed, another size, another scene: the same bottom rows.
+    let stranger = |scene: &str, width: &str, seed: &str, name: &str| {
+        let args = [
             "render",
             "--scene",
-            "cover",
+            scene,
             "--width",
-            "40",
+            width,
             "--spp",
             "6",
             "--seed",
-            "4",
+            seed,
             "--max-depth",
             "6",
             "--sampler",
@@ -822,53 +821,13 @@ fn merge_refuses_overlaps_gaps_and_strangers() {
             "--pixel-bounds",
             "0,40,12,22",
             "-o",
-            "seed4.film",
-        ],
-    );
-    ok(
-        d,
-        &[
-            "render",
-            "--scene",
-            "cover",
-            "--width",
-            "41",
-            "--spp",
-            "6",
-            "--seed",
-            "3",
-            "--max-depth",
-            "6",
-            "--sampler",
-            "sobol",
-            "--pixel-bounds",
-            "0,40,12,22",
-            "-o",
-            "wide.film",
-        ],
-    );
-    ok(
-        d,
-        &[
-            "render",
-            "--scene",
-            "week09",
-            "--width",
-            "40",
-            "--spp",
-            "6",
-            "--seed",
-            "3",
-            "--max-depth",
-            "6",
-            "--sampler",
-            "sobol",
-            "--pixel-bounds",
-            "0,40,12,22",
-            "-o",
-            "week.film",
-        ],
-    );
+            name,
+        ];
+        ok(d, &args);
+    };
+    stranger("cover", "40", "4", "seed4.film");
+    stranger("cover", "41", "3", "wide.film");
+    stranger("week09", "40", "3", "week.film");
     let full = bytes(&d.join("bottom.film"));
     std::fs::write(d.join("cut.film"), &full[..full.len() - 100]).unwrap();
     let mut flipped = full.clone();
