@@ -19,7 +19,9 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use strata::render::{Camera, PixelSum, RenderSettings, Tile, render_tile};
+use strata::render::{
+    Adaptive, Camera, PixelSum, RenderSettings, Tile, render_tile, render_tile_adaptive,
+};
 use strata::{Independent, Sampler, Stratified, UniformGrid};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{BUILT_IN, built_in};
@@ -95,6 +97,22 @@ fn check<S: Sampler + Clone>(name: &str, sampler: S, direct_lighting: bool) {
         count, 0,
         "{name} (direct {direct_lighting}): {count} allocations in {stats:?}"
     );
+    // The adaptive loop too.
+    let adaptive = Adaptive::new(2, 8, 0.01).unwrap();
+    let mut film = vec![PixelSum::ZERO; tile.area()];
+    let (count, stats) = data
+        .with_scene(|scene| {
+            let mut stats = None;
+            let count = allocations_in(|| {
+                stats = Some(render_tile_adaptive(
+                    scene, &camera, &sampler, &settings, tile, adaptive, &mut film,
+                ));
+            });
+            (count, stats.unwrap().unwrap())
+        })
+        .unwrap();
+    assert!(stats.rays > 0);
+    assert_eq!(count, 0, "{name} adaptive: {count} allocations");
 }
 
 fn render_tile_never_allocates() {
@@ -128,6 +146,7 @@ fn allocations_do_not_grow_with_samples() {
                 direct_lighting: true,
                 bvh: strata_runner::scenes::BvhMode::Auto,
                 filter: strata::render::PixelFilter::BOX,
+                adaptive: None,
             };
             // Once to warm up the thread pool's lazy state, then measured.
             run(&job, &|_| {}).unwrap();

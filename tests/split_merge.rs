@@ -37,6 +37,7 @@ fn job(
         direct_lighting: true,
         bvh: BvhMode::Auto,
         filter: strata::render::PixelFilter::BOX,
+        adaptive: None,
     }
 }
 

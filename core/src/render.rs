@@ -12,6 +12,7 @@
 //! accumulation, and [`Material`] for each model and how it differs from
 //! the course's.
 
+mod adaptive;
 mod camera;
 mod film;
 mod integrator;
@@ -20,10 +21,12 @@ mod scene;
 mod texture;
 
 pub use crate::filter::PixelFilter;
+pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PixelError};
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum, to_fixed};
 pub use integrator::{
     RenderError, RenderSettings, Tile, TileStats, pixel_sample, power_heuristic, render_tile,
+    render_tile_adaptive,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{BVH_THRESHOLD, Background, Scene, SceneError, collect_lights};

@@ -698,6 +698,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
             filter: strata::render::PixelFilter::BOX,
+            adaptive: None,
         };
         let probe = run(&job(1), &|_| {})?;
         let paths = probe.stats.paths as f64;
@@ -752,6 +753,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
         direct_lighting: true,
         bvh,
         filter: strata::render::PixelFilter::BOX,
+        adaptive: None,
     };
     let render = |name: &str, bvh| -> Contender<'_> {
         let j = job(bvh);

@@ -533,6 +533,25 @@ pub struct RenderArgs {
     /// Render only sample indices A..B-1 of every pixel (within 0..spp).
     #[arg(long, value_parser = sample_range)]
     pub samples: Option<std::ops::Range<u32>>,
+    /// Adaptive sampling: after --spp samples, each pixel takes batches of
+    /// --spp more while its relative error exceeds THRESHOLD, up to
+    /// --max-spp. The error is the standard error of the pixel's mean
+    /// luminance over that mean (over 0.05 for darker pixels).
+    #[arg(
+        long,
+        value_name = "THRESHOLD",
+        value_parser = positive_f32,
+        requires = "max_spp",
+        conflicts_with = "samples"
+    )]
+    pub adaptive: Option<f32>,
+    /// The most samples a pixel takes with --adaptive.
+    #[arg(long, requires = "adaptive", value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub max_spp: Option<u32>,
+    /// With --adaptive, also write a heat map of the samples each pixel
+    /// took as a PNG (viridis, log scale: dark = --spp, yellow = --max-spp).
+    #[arg(long, requires = "adaptive")]
+    pub spp_map: Option<PathBuf>,
     /// Pixel reconstruction filter, applied by importance sampling (each
     /// pixel depends only on its own samples).
     #[arg(long, value_enum, default_value_t = FilterName::Box)]
@@ -681,7 +700,15 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if width as u64 * height as u64 > MAX_PIXELS {
         bail!("{width} x {height} is over {MAX_PIXELS} pixels");
     }
-    let spp = args.spp.unwrap_or(d.spp);
+    let base_spp = args.spp.unwrap_or(d.spp);
+    let adaptive = match (args.adaptive, args.max_spp) {
+        (Some(t), Some(max)) => Some(strata::render::Adaptive::new(base_spp, max, t).map_err(
+            |_| anyhow::anyhow!("--max-spp {max} is below the base count --spp {base_spp}"),
+        )?),
+        _ => None,
+    };
+    // The sampler's pattern holds every sample a pixel may take.
+    let spp = adaptive.map_or(base_spp, |a| a.max());
     let max_depth = args.max_depth.unwrap_or(d.max_depth);
     if args.sampler != SamplerKind::Independent && spp > strata::sampler::MAX_STRATA_SPP {
         bail!(
@@ -712,6 +739,12 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(stats) = &args.stats {
         check_json(stats, "--stats")?;
     }
+    if let Some(map) = &args.spp_map {
+        check_output_ext(map, "png", "--spp-map")?;
+        if same_path(map, &output) {
+            bail!("--spp-map `{}` is the image's output", map.display());
+        }
+    }
 
     let job = Job {
         scene: &scene,
@@ -728,6 +761,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         direct_lighting: !args.no_direct_lighting,
         bvh: args.bvh,
         filter,
+        adaptive,
     };
     let bar = if std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(window.area() as u64);
@@ -752,6 +786,13 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         pixels: rendered.pixels,
     };
     write_film_or_image(&output, &film, args.gamma)?;
+    if let Some(map) = &args.spp_map {
+        // Both files or neither.
+        if let Err(e) = write_spp_map(map, &film) {
+            std::fs::remove_file(&output).ok();
+            return Err(e);
+        }
+    }
 
     let secs = rendered.wall.as_secs_f64();
     let st = rendered.stats;
@@ -765,12 +806,21 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             samples.end
         )
     };
+    let spp_text = match adaptive {
+        None => format!("{spp} spp"),
+        Some(a) => format!(
+            "adaptive {}..{} spp at {} ({})",
+            a.base(),
+            a.max(),
+            a.threshold(),
+            spp_summary(&film)
+        ),
+    };
     say(&format!(
-        "{}: {}x{} {} spp ({}, seed {}), depth {}{part}, to {}",
+        "{}: {}x{} {spp_text} ({}, seed {}), depth {}{part}, to {}",
         scene.name,
         width,
         height,
-        spp,
         args.sampler.name(),
         args.seed,
         max_depth,
@@ -809,6 +859,61 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             .with_context(|| format!("writing `{}`", path.display()))?;
     }
     Ok(())
+}
+
+/// Whether two paths name the same file, by their absolute forms (the
+/// files need not exist yet).
+fn same_path(a: &Path, b: &Path) -> bool {
+    match (std::path::absolute(a), std::path::absolute(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Mean, least and most samples per pixel, and the share at the maximum.
+fn spp_summary(film: &Film) -> String {
+    let taken: Vec<u64> = film
+        .pixels
+        .iter()
+        .map(|p| p.samples as u64 + p.dropped as u64)
+        .collect();
+    let n = taken.len().max(1) as f64;
+    let at_max = taken
+        .iter()
+        .filter(|&&t| t == film.key.spp() as u64)
+        .count();
+    format!(
+        "mean {:.1} spp, {} to {}, {:.1} % of pixels at the maximum",
+        taken.iter().sum::<u64>() as f64 / n,
+        taken.iter().min().unwrap_or(&0),
+        taken.iter().max().unwrap_or(&0),
+        100.0 * at_max as f64 / n
+    )
+}
+
+/// Writes the heat map of the samples each pixel of `film` took.
+fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
+    let base = film.key.adaptive_base().unwrap_or(film.key.spp());
+    let bytes = crate::study::spp_heat_map(&film.pixels, base, film.key.spp());
+    let mut meta = film.metadata("srgb");
+    meta.push((
+        "strata.spp_map".into(),
+        format!(
+            "samples per pixel, viridis on a log scale from {base} (dark) to {} (yellow)",
+            film.key.spp()
+        ),
+    ));
+    write_atomic(path, |tmp| {
+        crate::image_io::write_png_rgb8(
+            tmp,
+            film.window.width,
+            film.window.height,
+            &bytes,
+            Transfer::Srgb,
+            &meta,
+        )
+    })
+    .with_context(|| format!("writing `{}`", path.display()))
 }
 
 /// The transfer curve's name in metadata.
@@ -875,6 +980,10 @@ pub struct MergeArgs {
     /// PNG transfer curve: sRGB, or the course's gamma 2.
     #[arg(long, value_enum, default_value_t = Transfer::Srgb)]
     pub gamma: Transfer,
+    /// Also write a heat map of the samples each pixel took (PNG; see
+    /// `render --spp-map`).
+    #[arg(long)]
+    pub spp_map: Option<PathBuf>,
 }
 
 /// Runs `strata merge`: every part is read and checked before the output
@@ -894,8 +1003,23 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
         .iter()
         .map(|p| Film::read(p))
         .collect::<Result<_>>()?;
+    if let Some(map) = &args.spp_map {
+        check_output_ext(map, "png", "--spp-map")?;
+        if same_path(map, &args.output) || args.parts.iter().any(|p| same_path(map, p)) {
+            bail!(
+                "--spp-map `{}` is the output or one of the parts",
+                map.display()
+            );
+        }
+    }
     let film = crate::film_file::merge(&parts, &args.parts)?;
     write_film_or_image(&args.output, &film, args.gamma)?;
+    if let Some(map) = &args.spp_map
+        && let Err(e) = write_spp_map(map, &film)
+    {
+        std::fs::remove_file(&args.output).ok();
+        return Err(e);
+    }
     say(&format!(
         "merged {} part{}: {} {}x{}, {} spp, to {}",
         parts.len(),

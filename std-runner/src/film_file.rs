@@ -8,10 +8,10 @@
 //! image is bit-identical to the one-shot render; it refuses overlaps, gaps
 //! and parts of another render.
 //!
-//! The format (version 1) is a text header and a binary body:
+//! The format (version 2) is a text header and a binary body:
 //!
 //! ```text
-//! strata-film 1
+//! strata-film 2
 //! version=0.1.0+r1
 //! scene=cover
 //! ...                      the RenderKey fields, then:
@@ -23,6 +23,11 @@
 //!       little-endian: sum r, g, b as i64 (units of 2^-24), samples u32,
 //!       dropped u32.
 //! ```
+//!
+//! An adaptive render (`adaptive=threshold=T base=B max=M`, with `spp` =
+//! M) covers samples `0..M` of its window: each pixel holds the `B..=M`
+//! samples its error asked for. Adaptive parts split the pixels only,
+//! never the samples.
 
 use std::fmt::Write as _;
 use std::ops::Range;
@@ -36,7 +41,7 @@ use crate::render::Job;
 use crate::scene_file::{MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
-pub const MAGIC: &str = "strata-film 1";
+pub const MAGIC: &str = "strata-film 2";
 
 /// Bytes per pixel in a film's body.
 pub const BYTES_PER_PIXEL: usize = 32;
@@ -50,10 +55,12 @@ pub struct RenderKey {
     width: u32,
     height: u32,
     spp: u32,
+    /// The base sample count of an adaptive render.
+    adaptive_base: Option<u32>,
 }
 
 /// The field names of a [`RenderKey`], in file order.
-pub const KEY_FIELDS: [&str; 11] = [
+pub const KEY_FIELDS: [&str; 12] = [
     "version",
     "scene",
     "scene_hash",
@@ -65,6 +72,7 @@ pub const KEY_FIELDS: [&str; 11] = [
     "max_depth",
     "direct_lighting",
     "filter",
+    "adaptive",
 ];
 
 impl RenderKey {
@@ -93,6 +101,7 @@ impl RenderKey {
             job.direct_lighting.to_string(),
             // The BVH is not in the key: it never changes a pixel.
             filter_text(&job.filter),
+            adaptive_text(job.adaptive),
         ];
         RenderKey {
             // A value is one header line: control characters (a scene file
@@ -104,6 +113,7 @@ impl RenderKey {
             width: job.width,
             height: job.height,
             spp: job.spp,
+            adaptive_base: job.adaptive.map(|a| a.base()),
         }
     }
 
@@ -123,6 +133,13 @@ impl RenderKey {
     #[must_use]
     pub fn spp(&self) -> u32 {
         self.spp
+    }
+
+    /// The base sample count if the render is adaptive: each pixel then
+    /// holds between it and [`RenderKey::spp`] samples.
+    #[must_use]
+    pub fn adaptive_base(&self) -> Option<u32> {
+        self.adaptive_base
     }
 
     /// The fields as (name, value), in file order.
@@ -165,6 +182,33 @@ pub fn filter_text(f: &strata::render::PixelFilter) -> String {
         FilterKind::Lanczos { tau } => format!("lanczos r={r:?} tau={tau:?}"),
         k => format!("{} r={r:?}", k.name()),
     }
+}
+
+/// Adaptive sampling as text: `off`, or `threshold=T base=B max=M`.
+#[must_use]
+pub fn adaptive_text(a: Option<strata::render::Adaptive>) -> String {
+    match a {
+        None => "off".to_string(),
+        Some(a) => format!(
+            "threshold={:?} base={} max={}",
+            a.threshold(),
+            a.base(),
+            a.max()
+        ),
+    }
+}
+
+/// Parses [`adaptive_text`].
+fn parse_adaptive(s: &str) -> Option<Option<strata::render::Adaptive>> {
+    if s == "off" {
+        return Some(None);
+    }
+    let v: Vec<&str> = s.split(' ').collect();
+    let [t, b, m] = v[..] else { return None };
+    let t: f32 = t.strip_prefix("threshold=")?.parse().ok()?;
+    let b: u32 = b.strip_prefix("base=")?.parse().ok()?;
+    let m: u32 = m.strip_prefix("max=")?.parse().ok()?;
+    strata::render::Adaptive::new(b, m, t).ok().map(Some)
 }
 
 /// The crate version and the output revision: a change of either may
@@ -319,6 +363,18 @@ impl Film {
                 samples.end
             );
         }
+        let adaptive = parse_adaptive(get("adaptive")?).context("bad `adaptive`")?;
+        if let Some(a) = adaptive
+            && (a.max() != spp || samples != (0..spp))
+        {
+            bail!(
+                "an adaptive film must cover samples 0..{spp} with max={spp}, not samples {}..{} \
+                 with max={}",
+                samples.start,
+                samples.end,
+                a.max()
+            );
+        }
         let need = window.area() * BYTES_PER_PIXEL;
         if body.len() != need {
             bail!(
@@ -342,15 +398,23 @@ impl Film {
                 }
             })
             .collect::<Vec<PixelSum>>();
-        // Every pixel took every sample of the range, kept or dropped.
+        // Every pixel took every sample of the range, kept or dropped; an
+        // adaptive pixel took from the base count up to the maximum.
         let n = samples.end - samples.start;
+        let taken = |p: &PixelSum| p.samples as u64 + p.dropped as u64;
+        let base = adaptive.map_or(n, |a| a.base()) as u64;
         if let Some(at) = pixels
             .iter()
-            .position(|p| p.samples.checked_add(p.dropped) != Some(n))
+            .position(|p| !(base..=n as u64).contains(&taken(p)))
         {
+            let want = if adaptive.is_some() {
+                format!("{base} to {n}")
+            } else {
+                n.to_string()
+            };
             bail!(
-                "pixel {at} of the window holds {} samples where the range {}..{} has {n}",
-                pixels[at].samples as u64 + pixels[at].dropped as u64,
+                "pixel {at} of the window holds {} samples where the range {}..{} has {want}",
+                taken(&pixels[at]),
                 samples.start,
                 samples.end
             );
@@ -361,6 +425,7 @@ impl Film {
                 width,
                 height,
                 spp,
+                adaptive_base: adaptive.map(|a| a.base()),
             },
             window,
             samples,
@@ -512,6 +577,7 @@ mod tests {
         let job_key = |k: &str| match k {
             "size" => format!("{width}x{height}"),
             "spp" => "8".to_string(),
+            "adaptive" => "off".to_string(),
             _ => format!("{k}-value"),
         };
         let n = samples.end - samples.start;
@@ -521,6 +587,7 @@ mod tests {
                 width,
                 height,
                 spp: 8,
+                adaptive_base: None,
             },
             window,
             pixels: (0..window.area())
@@ -586,14 +653,43 @@ mod tests {
         assert!(e.contains("truncated"), "{e}");
         let e = refused(&good[..40]);
         assert!(e.contains("truncated"), "{e}");
-        let e = refused(b"strata-film 1\n\nxyz");
+        let e = refused(b"strata-film 2\n\nxyz");
         assert!(e.contains("no `version`"), "{e}");
         let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
         assert!(e.contains("repeats `seed`"), "{e}");
-        let e = refused(b"strata-film 2\n");
+        let e = refused(b"strata-film 1\n");
         assert!(e.contains("another format version"), "{e}");
         let e = refused(b"");
         assert!(e.contains("not a Strata film"), "{e}");
+    }
+
+    #[test]
+    fn adaptive_films_hold_counts_from_the_base_to_the_maximum() {
+        let mut f = film(7, 5, tile(2, 1, 3, 4), 0..8);
+        f.key.fields[11].1 = "threshold=0.05 base=2 max=8".into();
+        f.key.adaptive_base = Some(2);
+        for (i, p) in f.pixels.iter_mut().enumerate() {
+            p.samples = 1 + (i as u32 % 7); // 2..=8 with the dropped one
+        }
+        assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
+        let mut low = f.clone();
+        low.pixels[3].samples = 0;
+        let e = refused(&low.to_bytes());
+        assert!(
+            e.contains("holds 1 samples where the range 0..8 has 2 to 8"),
+            "{e}"
+        );
+        let mut part = f.clone();
+        part.samples = 0..4;
+        let e = refused(&part.to_bytes());
+        assert!(e.contains("must cover samples 0..8 with max=8"), "{e}");
+        let mut other = f.clone();
+        other.key.fields[11].1 = "threshold=0.05 base=2 max=6".into();
+        let e = refused(&other.to_bytes());
+        assert!(e.contains("with max=6"), "{e}");
+        other.key.fields[11].1 = "threshold=-1 base=2 max=8".into();
+        let e = refused(&other.to_bytes());
+        assert!(e.contains("bad `adaptive`"), "{e}");
     }
 
     #[test]

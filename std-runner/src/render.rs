@@ -9,7 +9,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use rayon::prelude::*;
-use strata::render::{Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile};
+use strata::render::{
+    Adaptive, Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile,
+    render_tile_adaptive,
+};
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
 
 use crate::scenes::{BvhMode, SceneData};
@@ -84,6 +87,9 @@ pub struct Job<'a> {
     pub bvh: BvhMode,
     /// The pixel filter (`PixelFilter::BOX` is the course's).
     pub filter: strata::render::PixelFilter,
+    /// Adaptive sampling: `spp` is then its maximum and `samples` must be
+    /// `0..spp`; each pixel takes what its error asks for.
+    pub adaptive: Option<Adaptive>,
 }
 
 /// The window of every pixel of a `width × height` image.
@@ -138,6 +144,17 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
             "pixel window {w:?} is empty or outside the {}x{} image",
             job.width,
             job.height
+        ));
+    }
+    if let Some(a) = job.adaptive
+        && (a.max() != job.spp || job.samples != (0..job.spp))
+    {
+        return Err(anyhow!(
+            "adaptive sampling renders samples 0..{} of every pixel, not {}..{} of {}",
+            a.max(),
+            job.samples.start,
+            job.samples.end,
+            job.spp
         ));
     }
     let camera = Camera::new(&data.camera, job.width, job.height)
@@ -227,9 +244,21 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
         .into_par_iter()
         .map(|tile| {
             let mut film = vec![PixelSum::ZERO; tile.area()];
-            let samples = job.samples.clone();
-            let stats = render_tile(scene, camera, &sampler, settings, tile, samples, &mut film)
-                .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
+            let stats = match job.adaptive {
+                Some(a) => {
+                    render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
+                }
+                None => render_tile(
+                    scene,
+                    camera,
+                    &sampler,
+                    settings,
+                    tile,
+                    job.samples.clone(),
+                    &mut film,
+                ),
+            }
+            .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
             progress(tile.area() as u64);
             Ok((tile, film, stats))
         })

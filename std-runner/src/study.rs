@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use plotters::prelude::*;
-use strata::render::Tile;
+use strata::render::{PixelSum, Tile};
 
 use crate::image_io::{Transfer, to_u8, write_atomic, write_png_rgb8};
 use crate::render::{Job, SamplerKind, run};
@@ -95,6 +95,7 @@ impl View<'_> {
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
             filter: strata::render::PixelFilter::BOX,
+            adaptive: None,
         };
         Ok(run(&job, &|_| {})?
             .pixels
@@ -453,6 +454,30 @@ pub fn side_by_side(
         root.present().map_err(err)?;
     }
     Ok((buf, w, h))
+}
+
+/// The heat map of the samples each pixel took (`samples + dropped`), as
+/// 8-bit RGB: viridis on a log scale, from `base` samples (dark blue) to
+/// `max` (yellow). Counts outside are clamped; with `max == base` every
+/// pixel is dark.
+#[must_use]
+pub fn spp_heat_map(pixels: &[PixelSum], base: u32, max: u32) -> Vec<u8> {
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    let lo = (base.max(1) as f64).ln();
+    let span = (max.max(base).max(1) as f64).ln() - lo;
+    pixels
+        .iter()
+        .flat_map(|p| {
+            let taken = (p.samples as u64 + p.dropped as u64).max(1) as f64;
+            let t = if span > 0.0 {
+                ((taken.ln() - lo) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let c: RGBColor = ViridisRGB.get_color_normalized(t, 0.0, 1.0);
+            [c.0, c.1, c.2]
+        })
+        .collect()
 }
 
 /// Writes an 8-bit RGB buffer as an sRGB PNG, atomically.

@@ -1031,3 +1031,168 @@ fn filters_are_chosen_on_the_command_line_and_named_in_metadata() {
         assert!(e.contains(want), "{args:?}: {e}");
     }
 }
+
+#[test]
+fn adaptive_renders_split_merge_and_write_an_spp_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let adaptive = ["--adaptive", "0.05", "--max-spp", "48"];
+    fn with<'a>(adaptive: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [adaptive, extra].concat()
+    }
+    let said = {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "40",
+            "--spp",
+            "6",
+            "--seed",
+            "3",
+            "--max-depth",
+            "6",
+            "--sampler",
+            "sobol",
+        ];
+        args.extend_from_slice(&with(
+            &adaptive,
+            &["--spp-map", "map.png", "-o", "full.png"],
+        ));
+        ok(d, &args)
+    };
+    assert!(said.contains("adaptive 6..48 spp at 0.05 (mean"), "{said}");
+    cover_render(d, "full.exr", &adaptive);
+    let full = String::from_utf8_lossy(&bytes(&d.join("full.png"))).into_owned();
+    assert!(full.contains("threshold=0.05 base=6 max=48"), "metadata");
+    // The map is the image's size, and varies.
+    assert_eq!(png_size(&d.join("map.png")), png_size(&d.join("full.png")));
+    // Crops of an adaptive render merge into the one-shot image, and so
+    // does its spp map.
+    cover_render(d, "a.film", &with(&adaptive, &["--crop", "0,0.5,0,1"]));
+    cover_render(
+        d,
+        "b.film",
+        &with(&adaptive, &["--crop", "0.5,1,0,1", "--threads", "1"]),
+    );
+    ok(
+        d,
+        &[
+            "merge",
+            "b.film",
+            "a.film",
+            "-o",
+            "m.png",
+            "--spp-map",
+            "m-map.png",
+        ],
+    );
+    assert_eq!(bytes(&d.join("m.png")), bytes(&d.join("full.png")));
+    assert_eq!(bytes(&d.join("m-map.png")), bytes(&d.join("map.png")));
+    ok(d, &["merge", "a.film", "b.film", "-o", "m.exr"]);
+    assert_eq!(bytes(&d.join("m.exr")), bytes(&d.join("full.exr")));
+    // Parts of a uniform render at the maximum spp are of another render.
+    ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "40",
+            "--spp",
+            "48",
+            "--seed",
+            "3",
+            "--max-depth",
+            "6",
+            "--sampler",
+            "sobol",
+            "--crop",
+            "0.5,1,0,1",
+            "-o",
+            "u.film",
+        ],
+    );
+    let e = refused(d, &["merge", "a.film", "u.film", "-o", "x.png"]);
+    assert!(e.contains("adaptive is `off`"), "{e}");
+    for (args, want) in [
+        (
+            vec![
+                "render",
+                "--adaptive",
+                "0.1",
+                "--max-spp",
+                "8",
+                "--samples",
+                "0..4",
+            ],
+            "--samples",
+        ),
+        (vec!["render", "--adaptive", "0.1"], "--max-spp"),
+        (vec!["render", "--max-spp", "64"], "--adaptive"),
+        (
+            vec!["render", "--adaptive", "0", "--max-spp", "64"],
+            "positive",
+        ),
+        (
+            vec!["render", "--adaptive", "nan", "--max-spp", "64"],
+            "positive",
+        ),
+        (
+            vec![
+                "render",
+                "--spp",
+                "16",
+                "--adaptive",
+                "0.1",
+                "--max-spp",
+                "8",
+            ],
+            "--max-spp 8 is below the base count --spp 16",
+        ),
+        (vec!["render", "--spp-map", "m.png"], "--adaptive"),
+        (
+            vec![
+                "render",
+                "--adaptive",
+                "0.1",
+                "--max-spp",
+                "64",
+                "--spp-map",
+                "m.jpg",
+            ],
+            "must end in .png",
+        ),
+        (
+            vec![
+                "render",
+                "--adaptive",
+                "0.1",
+                "--max-spp",
+                "64",
+                "--spp-map",
+                "o.png",
+                "-o",
+                "o.png",
+            ],
+            "is the image's output",
+        ),
+        (
+            vec![
+                "merge",
+                "a.film",
+                "b.film",
+                "-o",
+                "y.png",
+                "--spp-map",
+                "a.film",
+            ],
+            "must end in .png",
+        ),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+}

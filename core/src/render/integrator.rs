@@ -45,6 +45,7 @@ use core::ops::Range;
 
 use glam::{UVec2, Vec2, Vec3};
 
+use super::adaptive::{Adaptive, PixelError};
 use super::camera::Camera;
 use super::film::PixelSum;
 use super::material::{Lobe, Material, SurfaceHit};
@@ -349,6 +350,85 @@ pub fn pixel_sample<S: Sampler>(
     ) * weight
 }
 
+/// The checks every tile render makes before tracing anything.
+fn check_tile(
+    camera: &Camera,
+    settings: &RenderSettings,
+    tile: Tile,
+    film_len: usize,
+) -> Result<(), RenderError> {
+    if settings.max_depth == 0 {
+        return Err(RenderError::MaxDepth);
+    }
+    let size = camera.size();
+    let inside = tile.width > 0
+        && tile.height > 0
+        && tile.x0.checked_add(tile.width).is_some_and(|x| x <= size.x)
+        && tile
+            .y0
+            .checked_add(tile.height)
+            .is_some_and(|y| y <= size.y);
+    if !inside {
+        return Err(RenderError::Tile);
+    }
+    if film_len != tile.area() {
+        return Err(RenderError::FilmSize {
+            needed: tile.area(),
+            provided: film_len,
+        });
+    }
+    Ok(())
+}
+
+/// Up to 8 neighbouring pixels of a row, traced together: lane `l` is
+/// pixel `first + (l, 0)`, with its sampler, its film entry and, when
+/// sampling adaptively, its error statistics.
+struct Group<'a, S> {
+    first: UVec2,
+    lanes: &'a mut [S; 8],
+    film: &'a mut [PixelSum],
+    errors: Option<&'a mut [PixelError; 8]>,
+}
+
+impl<S: Sampler> Group<'_, S> {
+    /// Traces sample `index` of the lanes `ids` (ascending), their camera
+    /// rays as one packet, and adds each value to its pixel.
+    #[inline]
+    fn trace(
+        &mut self,
+        scene: &Scene<'_>,
+        camera: &Camera,
+        settings: &RenderSettings,
+        ids: &[usize],
+        index: u32,
+        stats: &mut TileStats,
+    ) {
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+        let mut weights = [1.0f32; 8];
+        for (k, &l) in ids.iter().enumerate() {
+            let pixel = self.first + UVec2::new(l as u32, 0);
+            (rays[k], weights[k]) =
+                camera_ray(camera, &settings.filter, &mut self.lanes[l], pixel, index);
+        }
+        let mut hits = HitPacket8::NONE;
+        scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
+        for (k, &l) in ids.iter().enumerate() {
+            let v = trace_path(
+                scene,
+                &mut self.lanes[l],
+                settings,
+                rays[k],
+                hits.hit(k),
+                stats,
+            ) * weights[k];
+            self.film[l].add_sample(v);
+            if let Some(e) = self.errors.as_deref_mut() {
+                e[l].add(v);
+            }
+        }
+    }
+}
+
 /// Renders samples `samples` of every pixel of `tile` and adds them to
 /// `film` (row-major over the tile, one [`PixelSum`] per pixel), in place:
 /// a film may collect several runs. Camera rays of up to 8 neighbouring
@@ -368,52 +448,123 @@ pub fn render_tile<S: Sampler + Clone>(
     samples: Range<u32>,
     film: &mut [PixelSum],
 ) -> Result<TileStats, RenderError> {
-    if settings.max_depth == 0 {
-        return Err(RenderError::MaxDepth);
-    }
-    let size = camera.size();
-    let inside = tile.width > 0
-        && tile.height > 0
-        && tile.x0.checked_add(tile.width).is_some_and(|x| x <= size.x)
-        && tile
-            .y0
-            .checked_add(tile.height)
-            .is_some_and(|y| y <= size.y);
-    if !inside {
-        return Err(RenderError::Tile);
-    }
-    if film.len() != tile.area() {
-        return Err(RenderError::FilmSize {
-            needed: tile.area(),
-            provided: film.len(),
-        });
-    }
+    check_tile(camera, settings, tile, film.len())?;
     let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
-    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
-    let mut weights = [1.0f32; 8];
+    const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
     for row in 0..tile.height {
         let y = tile.y0 + row;
         let mut col = 0;
         while col < tile.width {
             let n = (tile.width - col).min(8) as usize;
+            let at = (row * tile.width + col) as usize;
+            let mut group = Group {
+                first: UVec2::new(tile.x0 + col, y),
+                lanes: &mut lanes,
+                film: &mut film[at..at + n],
+                errors: None,
+            };
             for index in samples.clone() {
-                for (l, (s, r)) in lanes.iter_mut().zip(rays.iter_mut()).take(n).enumerate() {
-                    let pixel = UVec2::new(tile.x0 + col + l as u32, y);
-                    (*r, weights[l]) = camera_ray(camera, &settings.filter, s, pixel, index);
+                group.trace(scene, camera, settings, &ALL[..n], index, &mut stats);
+            }
+            col += n as u32;
+        }
+    }
+    Ok(stats)
+}
+
+/// Renders every pixel of `tile` adaptively and adds the samples to
+/// `film` (row-major over the tile; started at [`PixelSum::ZERO`] it
+/// holds each pixel's sample count as `samples + dropped`): samples
+/// `0..base` of each pixel, then batches of `base` more, in index order,
+/// while [`Adaptive::wants_more`] says so (see [`Adaptive`] for the error
+/// estimator). Each pixel equals [`pixel_sample`] over its indices `0..k`
+/// with `k` decided by its own samples alone, so tiles, threads and
+/// windows do not change it.
+///
+/// `sampler` is the prototype and should have `samples_per_pixel() ≥
+/// adaptive.max()`: indices up to the maximum are drawn from its pattern.
+///
+/// ```
+/// use glam::{UVec2, Vec3};
+/// use strata::render::*;
+/// use strata::trace::{Sphere, SphereChunk8, SphereSet};
+/// use strata::Independent;
+/// // A diffuse sphere on a diffuse ground under a flat white sky.
+/// let spheres = [
+///     Sphere::new(Vec3::new(-1.0, 0.0, 0.0), 1.0),
+///     Sphere::new(Vec3::new(0.0, -101.0, 0.0), 100.0),
+/// ];
+/// let mut storage = [SphereChunk8::EMPTY; 1];
+/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
+/// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) }];
+/// let sky = Background::Flat(Vec3::ONE);
+/// let scene = Scene::new(&spheres, set, &materials, &[0, 0], &[], sky).unwrap();
+/// let desc = CameraDesc {
+///     look_from: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y,
+///     vfov_deg: 40.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
+/// };
+/// let camera = Camera::new(&desc, 8, 4).unwrap();
+/// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX };
+/// let adaptive = Adaptive::new(4, 64, 0.02).unwrap();
+/// let tile = Tile { x0: 0, y0: 0, width: 8, height: 4 };
+/// let mut film = [PixelSum::ZERO; 32];
+/// let sampler = Independent::new(64, 1).unwrap();
+/// render_tile_adaptive(&scene, &camera, &sampler, &settings, tile, adaptive, &mut film).unwrap();
+/// let taken = |x: usize, y: usize| film[y * 8 + x].samples;
+/// assert!(taken(2, 2) > 4); // on the sphere, lit by the sky and the ground
+/// assert_eq!(taken(7, 0), 4); // the flat sky: no variance, the base only
+/// ```
+#[inline]
+pub fn render_tile_adaptive<S: Sampler + Clone>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+    adaptive: Adaptive,
+    film: &mut [PixelSum],
+) -> Result<TileStats, RenderError> {
+    check_tile(camera, settings, tile, film.len())?;
+    let mut stats = TileStats::default();
+    let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
+    for row in 0..tile.height {
+        let y = tile.y0 + row;
+        let mut col = 0;
+        while col < tile.width {
+            let n = (tile.width - col).min(8) as usize;
+            let at = (row * tile.width + col) as usize;
+            let mut errors = [PixelError::ZERO; 8];
+            let mut group = Group {
+                first: UVec2::new(tile.x0 + col, y),
+                lanes: &mut lanes,
+                film: &mut film[at..at + n],
+                errors: Some(&mut errors),
+            };
+            // Every active lane has taken the same samples, so one batch
+            // serves them all and their camera rays stay one packet.
+            let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
+            let mut active = n;
+            let mut taken = 0;
+            loop {
+                for index in adaptive.next_batch(taken) {
+                    group.trace(scene, camera, settings, &ids[..active], index, &mut stats);
                 }
-                let mut hits = HitPacket8::NONE;
-                scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..n]), &mut hits);
-                for l in 0..n {
-                    let v = trace_path(
-                        scene,
-                        &mut lanes[l],
-                        settings,
-                        rays[l],
-                        hits.hit(l),
-                        &mut stats,
-                    );
-                    film[(row * tile.width + col) as usize + l].add_sample(v * weights[l]);
+                taken = adaptive.next_batch(taken).end;
+                let errors = group
+                    .errors
+                    .as_deref()
+                    .expect("adaptive groups keep errors");
+                let mut kept = 0;
+                for k in 0..active {
+                    if adaptive.wants_more(taken, &errors[ids[k]]) {
+                        ids[kept] = ids[k];
+                        kept += 1;
+                    }
+                }
+                active = kept;
+                if active == 0 {
+                    break;
                 }
             }
             col += n as u32;
