@@ -25,6 +25,7 @@ fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'
         direct_lighting: true,
         bvh: BvhMode::Auto,
         filter: PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
     }
 }

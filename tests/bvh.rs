@@ -367,6 +367,7 @@ fn renders_are_identical_with_and_without_the_bvh() {
                 direct_lighting: true,
                 bvh,
                 filter: strata::render::PixelFilter::BOX,
+                texture_filter: strata::render::TextureFilter::None,
                 adaptive: None,
             };
             let on = run(&job(BvhMode::On), &|_| {}).unwrap();

@@ -67,6 +67,7 @@ fn check<S: Sampler + Clone>(name: &str, sampler: S, direct_lighting: bool) {
         max_depth: data.defaults.max_depth,
         direct_lighting,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
     };
     let tile = Tile {
         x0: 8,
@@ -146,6 +147,7 @@ fn allocations_do_not_grow_with_samples() {
                 direct_lighting: true,
                 bvh: strata_runner::scenes::BvhMode::Auto,
                 filter: strata::render::PixelFilter::BOX,
+                texture_filter: strata::render::TextureFilter::None,
                 adaptive: None,
             };
             // Once to warm up the thread pool's lazy state, then measured.

@@ -130,6 +130,7 @@ const SETTINGS: RenderSettings = RenderSettings {
     max_depth: 6,
     direct_lighting: true,
     filter: strata::render::PixelFilter::BOX,
+    texture_filter: strata::render::TextureFilter::None,
 };
 
 fn render<S: Sampler + Clone>(
@@ -224,6 +225,7 @@ fn albedo(m: &Material, view_deg: f32, n: usize, seed: u64) -> (Vec3, f64) {
         n: Vec3::Y,
         front_face: true,
         uv: Vec2::ZERO,
+        footprint: Vec3::ZERO,
     };
     let t = view_deg.to_radians();
     let d = Vec3::new(t.sin(), -t.cos(), 0.0);
@@ -452,6 +454,7 @@ fn sphere_light_irradiance_is_right_with_and_without_mis() {
             max_depth: 2,
             direct_lighting: nee,
             filter: strata::render::PixelFilter::BOX,
+            texture_filter: strata::render::TextureFilter::None,
         };
         let mut s = Independent::new(n, 5).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -491,6 +494,7 @@ fn lit(extra: &[(Sphere, u32)], at: Vec3) -> f32 {
         max_depth: 2,
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
     };
     let desc = CameraDesc {
         look_from: at + Vec3::new(0.02, 0.05, 0.0),
@@ -576,6 +580,7 @@ fn two_lights_add_up() {
             max_depth: 2,
             direct_lighting: nee,
             filter: strata::render::PixelFilter::BOX,
+            texture_filter: strata::render::TextureFilter::None,
         };
         let mut s = Independent::new(n, 8).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -633,6 +638,7 @@ fn furnace_with_lights_and_mis() {
         max_depth: 64,
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
     };
     let mut sampler = Independent::new(1, 2).unwrap();
     let (mut sum, mut sum2, mut n) = (0.0f64, 0.0f64, 0u32);
@@ -675,6 +681,7 @@ fn render_tile_refuses_bad_requests() {
         max_depth: 0,
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
     };
     assert_eq!(
         render_tile(&scene, &cam, &s, &bad_depth, tile, 0..1, &mut film),
@@ -743,6 +750,7 @@ fn white_furnace() {
         max_depth: 64,
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
     };
     let tile = Tile {
         x0: 0,
@@ -801,6 +809,7 @@ fn cook_torrance_matches_an_independent_evaluation() {
                 n: Vec3::Y,
                 front_face: true,
                 uv: Vec2::ZERO,
+                footprint: Vec3::ZERO,
             },
             l.as_vec3(),
         )

@@ -37,6 +37,7 @@ fn job(
         direct_lighting: true,
         bvh: BvhMode::Auto,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
     }
 }

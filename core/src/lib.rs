@@ -75,7 +75,10 @@
 //!     },
 //!     16, 16,
 //! ).unwrap();
-//! let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: strata::filter::PixelFilter::BOX };
+//! let settings = RenderSettings {
+//!     max_depth: 8, direct_lighting: true,
+//!     filter: strata::filter::PixelFilter::BOX, texture_filter: TextureFilter::None,
+//! };
 //! let tile = Tile { x0: 8, y0: 8, width: 1, height: 1 };
 //! let mut film = [PixelSum::ZERO; 1];
 //! render_tile(&scene, &camera, &Independent::new(16, 1).unwrap(), &settings, tile, 0..16, &mut film).unwrap();

@@ -30,7 +30,7 @@ pub use integrator::{
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{BVH_THRESHOLD, Background, Scene, SceneError, collect_lights};
-pub use texture::{ImageTexture, Texture, sphere_uv};
+pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 
 /// The revision of what renders compute: raised whenever a change alters
 /// any pixel of any render (the value-stability lock in

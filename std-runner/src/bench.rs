@@ -698,6 +698,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
             filter: strata::render::PixelFilter::BOX,
+            texture_filter: strata::render::TextureFilter::None,
             adaptive: None,
         };
         let probe = run(&job(1), &|_| {})?;
@@ -753,6 +754,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
         direct_lighting: true,
         bvh,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
     };
     let render = |name: &str, bvh| -> Contender<'_> {

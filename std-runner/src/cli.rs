@@ -175,6 +175,11 @@ pub struct AliasingArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
     pub threads: u16,
+    /// Texture filtering of the sampler panels (the reference is
+    /// point-sampled): none, or box (the checker averaged over each
+    /// camera ray's footprint).
+    #[arg(long, value_enum, default_value_t = TextureFilterName::None)]
+    pub texture_filter: TextureFilterName,
     /// Output PNG.
     #[arg(short, long, default_value = "aliasing.png")]
     pub output: PathBuf,
@@ -267,6 +272,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         window,
         max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
         threads: args.threads as usize,
+        texture_filter: strata::render::TextureFilter::None,
     };
     let started = std::time::Instant::now();
     let (reference, cached) = study::reference(&view, args.reference_spp, &cache_dir)?;
@@ -367,16 +373,25 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
         window: crate::render::whole(width, height),
         max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
         threads: args.threads as usize,
+        texture_filter: args.texture_filter.filter(),
+    };
+    let prefiltered = match args.texture_filter {
+        TextureFilterName::None => "",
+        TextureFilterName::Box => ", prefiltered",
     };
     let mut panels = Vec::new();
     for &s in &args.samplers {
         panels.push((
-            format!("{}, {} spp", s.name(), args.spp),
+            format!("{}, {} spp{prefiltered}", s.name(), args.spp),
             view.render(s, args.spp, args.seed)?,
         ));
     }
     if args.reference_spp > 0 {
-        let reference = view.render(
+        let point = View {
+            texture_filter: strata::render::TextureFilter::None,
+            ..view.clone()
+        };
+        let reference = point.render(
             SamplerKind::Sobol,
             args.reference_spp,
             // A seed apart from the panels' (never equal to it).
@@ -561,6 +576,11 @@ pub struct RenderArgs {
     /// blackman-harris 1.5].
     #[arg(long, value_parser = positive_f32)]
     pub filter_radius: Option<f32>,
+    /// Texture filtering: none (point sampling, the course's) or box (the
+    /// checker averaged in closed form over each camera ray's footprint,
+    /// from ray differentials).
+    #[arg(long, value_enum, default_value_t = TextureFilterName::None)]
+    pub texture_filter: TextureFilterName,
     /// Output file: .png (8-bit), .exr (linear float), or .film (exact
     /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
@@ -568,6 +588,26 @@ pub struct RenderArgs {
     /// Write run facts (threads, wall time, SIMD level, rays) as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
+}
+
+/// The texture filters `--texture-filter` offers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TextureFilterName {
+    /// Point sampling.
+    None,
+    /// The checker's box average over the footprint.
+    Box,
+}
+
+impl TextureFilterName {
+    /// The core's setting.
+    #[must_use]
+    pub fn filter(self) -> strata::render::TextureFilter {
+        match self {
+            TextureFilterName::None => strata::render::TextureFilter::None,
+            TextureFilterName::Box => strata::render::TextureFilter::Box,
+        }
+    }
 }
 
 /// The filters `--filter` offers, with their usual shape parameters.
@@ -762,6 +802,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         bvh: args.bvh,
         filter,
         adaptive,
+        texture_filter: args.texture_filter.filter(),
     };
     let bar = if std::io::stderr().is_terminal() {
         let bar = ProgressBar::new(window.area() as u64);

@@ -60,7 +60,7 @@ pub struct RenderKey {
 }
 
 /// The field names of a [`RenderKey`], in file order.
-pub const KEY_FIELDS: [&str; 12] = [
+pub const KEY_FIELDS: [&str; 13] = [
     "version",
     "scene",
     "scene_hash",
@@ -73,6 +73,7 @@ pub const KEY_FIELDS: [&str; 12] = [
     "direct_lighting",
     "filter",
     "adaptive",
+    "texture_filter",
 ];
 
 impl RenderKey {
@@ -102,6 +103,11 @@ impl RenderKey {
             // The BVH is not in the key: it never changes a pixel.
             filter_text(&job.filter),
             adaptive_text(job.adaptive),
+            match job.texture_filter {
+                strata::render::TextureFilter::None => "none",
+                strata::render::TextureFilter::Box => "box",
+            }
+            .to_string(),
         ];
         RenderKey {
             // A value is one header line: control characters (a scene file

@@ -143,6 +143,7 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
         direct_lighting: true,
         bvh: BvhMode::Auto,
         filter: strata::render::PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
     };
     Ok(film_hash(&run(&job, &|_| {})?.pixels))

@@ -90,6 +90,8 @@ pub struct Job<'a> {
     /// Adaptive sampling: `spp` is then its maximum and `samples` must be
     /// `0..spp`; each pixel takes what its error asks for.
     pub adaptive: Option<Adaptive>,
+    /// Texture filtering at camera rays' first hits.
+    pub texture_filter: strata::render::TextureFilter,
 }
 
 /// The window of every pixel of a `width × height` image.
@@ -163,6 +165,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         max_depth: job.max_depth,
         direct_lighting: job.direct_lighting,
         filter: job.filter,
+        texture_filter: job.texture_filter,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)

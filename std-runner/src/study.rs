@@ -74,6 +74,8 @@ pub struct View<'a> {
     pub max_depth: u32,
     /// Worker threads.
     pub threads: usize,
+    /// Texture filtering (references are always point-sampled).
+    pub texture_filter: strata::render::TextureFilter,
 }
 
 impl View<'_> {
@@ -95,6 +97,7 @@ impl View<'_> {
             direct_lighting: true,
             bvh: crate::scenes::BvhMode::Auto,
             filter: strata::render::PixelFilter::BOX,
+            texture_filter: self.texture_filter,
             adaptive: None,
         };
         Ok(run(&job, &|_| {})?

@@ -1196,3 +1196,58 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
         assert!(e.contains(want), "{args:?}: {e}");
     }
 }
+
+#[test]
+fn texture_filter_is_chosen_on_the_command_line_and_named_in_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let render = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", "--scene", "horizon", "--width", "48", "--spp", "1",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", name]);
+        ok(d, &args);
+        bytes(&d.join(name))
+    };
+    let point = render("p.png", &[]);
+    let boxed = render("b.png", &["--texture-filter", "box"]);
+    assert_ne!(point, boxed);
+    assert_eq!(render("n.png", &["--texture-filter", "none"]), point);
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    assert!(
+        text(&boxed).contains("strata.texture_filter\0box"),
+        "metadata"
+    );
+    assert!(
+        text(&point).contains("strata.texture_filter\0none"),
+        "metadata"
+    );
+    // Tiles and threads do not change a prefiltered image.
+    assert_eq!(
+        render(
+            "b2.png",
+            &["--texture-filter", "box", "--tile", "5", "--threads", "1"]
+        ),
+        boxed
+    );
+    let said = ok(
+        d,
+        &[
+            "aliasing",
+            "--width",
+            "48",
+            "--spp",
+            "1",
+            "--reference-spp",
+            "16",
+            "--texture-filter",
+            "box",
+            "-o",
+            "a.png",
+        ],
+    );
+    assert!(said.contains("grid, 1 spp, prefiltered: RMSE"), "{said}");
+    let e = refused(d, &["render", "--texture-filter", "trilinear"]);
+    assert!(e.contains("--texture-filter"), "{e}");
+}

@@ -50,7 +50,7 @@ use super::camera::Camera;
 use super::film::PixelSum;
 use super::material::{Lobe, Material, SurfaceHit};
 use super::scene::Scene;
-use super::texture::sphere_uv;
+use super::texture::{TextureFilter, sphere_uv};
 use crate::filter::PixelFilter;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
 use crate::onb::Onb;
@@ -69,6 +69,16 @@ pub struct RenderSettings {
     /// offset is drawn from it and its radiance weighted by `f / pdf`
     /// ([`PixelFilter::BOX`] is the course's: weight 1).
     pub filter: PixelFilter,
+    /// Texture filtering at camera rays' first hits ([`TextureFilter::None`]
+    /// is the course's point sampling). With [`TextureFilter::Box`] the
+    /// footprint comes from ray differentials: the rays through the same
+    /// lens point and the pixel position moved by `δ` in x and in y,
+    /// intersected with the hit's tangent plane, give `dp/dx` and `dp/dy`;
+    /// the box has, per world axis, the parallelogram's standard deviation
+    /// (`√(dpdxᵢ² + dpdyᵢ²) / 2`). `δ = max(1/8, 1/√spp)` pixels, as in
+    /// pbrt-v4: more samples per pixel already average over the pixel, so
+    /// each filters less. Later vertices are point-sampled.
+    pub texture_filter: TextureFilter,
 }
 
 /// A rectangle of the image: `width × height` pixels from `(x0, y0)`.
@@ -157,6 +167,7 @@ fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> S
         p,
         n: if front_face { outward } else { -outward },
         front_face,
+        footprint: Vec3::ZERO,
         // acos and atan2 cost more than the rest of the record; only an
         // image texture reads uv.
         uv: if material.uses_uv() {
@@ -165,6 +176,21 @@ fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> S
             Vec2::ZERO
         },
     }
+}
+
+/// The half-widths of the box textures are averaged over at `surf`, from
+/// the differential rays `diff` (see [`RenderSettings::texture_filter`]);
+/// infinite when a differential ray runs parallel to the tangent plane.
+#[inline]
+fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
+    let offset = |r: &Ray| {
+        let t = surf.n.dot(surf.p - r.origin) / surf.n.dot(r.dir);
+        r.origin + r.dir * t - surf.p
+    };
+    let (dx, dy) = (offset(&diff[0]), offset(&diff[1]));
+    let v = dx * dx + dy * dy;
+    let w = Vec3::new(libm::sqrtf(v.x), libm::sqrtf(v.y), libm::sqrtf(v.z)) * 0.5;
+    if w.is_finite() { w } else { Vec3::INFINITY }
 }
 
 /// The density, per steradian, with which direct lighting from `p` picks a
@@ -221,14 +247,16 @@ fn direct_light(
 }
 
 /// The radiance of one camera path that starts with `ray`, whose first
-/// hit (`first`) is already known. The sampler is positioned after the
-/// camera's four dimensions.
+/// hit (`first`) is already known, with the differential rays `diff` when
+/// textures are filtered. The sampler is positioned after the camera's
+/// four dimensions.
 fn trace_path<S: Sampler>(
     scene: &Scene<'_>,
     sampler: &mut S,
     settings: &RenderSettings,
     mut ray: Ray,
     first: Option<Hit>,
+    diff: Option<[Ray; 2]>,
     stats: &mut TileStats,
 ) -> Vec3 {
     let mut radiance = Vec3::ZERO;
@@ -262,7 +290,12 @@ fn trace_path<S: Sampler>(
         if segment == settings.max_depth {
             break;
         }
-        let surf = surface(scene, &ray, h, material);
+        let mut surf = surface(scene, &ray, h, material);
+        if segment == 1
+            && let Some(d) = &diff
+        {
+            surf.footprint = footprint(&surf, d);
+        }
         let u_scatter = sampler.next_2d();
         let u_lobe = sampler.next_1d();
         let u_choice = sampler.next_1d();
@@ -288,21 +321,51 @@ fn trace_path<S: Sampler>(
     radiance
 }
 
-/// The camera ray of sample `index` of `pixel` and the filter weight of
-/// the sample; leaves the sampler after the camera's dimensions (pixel
-/// 0–1, lens 2–3).
+/// One camera sample: the ray, the filter weight, and the differential
+/// rays when textures are filtered.
+#[derive(Clone, Copy)]
+struct CameraSample {
+    ray: Ray,
+    weight: f32,
+    diff: Option<[Ray; 2]>,
+}
+
+/// The differential spacing `δ` in pixels for a sampler of `spp` (see
+/// [`RenderSettings::texture_filter`]); 0 without texture filtering.
+#[inline]
+fn differential_spacing(settings: &RenderSettings, spp: u32) -> f32 {
+    match settings.texture_filter {
+        TextureFilter::None => 0.0,
+        TextureFilter::Box => (1.0 / libm::sqrtf(spp.max(1) as f32)).max(0.125),
+    }
+}
+
+/// The camera sample `index` of `pixel`, with differential rays `spacing`
+/// pixels apart (none if 0); leaves the sampler after the camera's
+/// dimensions (pixel 0–1, lens 2–3).
 #[inline]
 fn camera_ray<S: Sampler>(
     camera: &Camera,
     filter: &PixelFilter,
+    spacing: f32,
     sampler: &mut S,
     pixel: UVec2,
     index: u32,
-) -> (Ray, f32) {
+) -> CameraSample {
     sampler.start_pixel_sample(pixel, index);
     let f = filter.pixel_sample(sampler.pixel_2d());
     let lens = sampler.next_2d();
-    (camera.ray(pixel, f.offset, lens), f.weight)
+    let diff = (spacing > 0.0).then(|| {
+        [
+            camera.ray(pixel, f.offset + Vec2::new(spacing, 0.0), lens),
+            camera.ray(pixel, f.offset + Vec2::new(0.0, spacing), lens),
+        ]
+    });
+    CameraSample {
+        ray: camera.ray(pixel, f.offset, lens),
+        weight: f.weight,
+        diff,
+    }
 }
 
 /// The radiance of sample `index` of `pixel`, one ray at a time: the
@@ -324,7 +387,8 @@ fn camera_ray<S: Sampler>(
 ///     vfov_deg: 30.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
 /// };
 /// let camera = Camera::new(&desc, 8, 8).unwrap();
-/// let settings = RenderSettings { max_depth: 50, direct_lighting: true, filter: PixelFilter::BOX };
+/// let settings = RenderSettings { max_depth: 50, direct_lighting: true, filter: PixelFilter::BOX,
+///     texture_filter: TextureFilter::None };
 /// let mut sampler = Independent::new(1, 7).unwrap();
 /// let l = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
 /// assert!((l - Vec3::ONE).abs().max_element() < 1e-5); // every path sees 1
@@ -338,16 +402,18 @@ pub fn pixel_sample<S: Sampler>(
     pixel: UVec2,
     index: u32,
 ) -> Vec3 {
-    let (ray, weight) = camera_ray(camera, &settings.filter, sampler, pixel, index);
-    let first = scene.closest_hit(&ray);
+    let spacing = differential_spacing(settings, sampler.samples_per_pixel());
+    let c = camera_ray(camera, &settings.filter, spacing, sampler, pixel, index);
+    let first = scene.closest_hit(&c.ray);
     trace_path(
         scene,
         sampler,
         settings,
-        ray,
+        c.ray,
         first,
+        c.diff,
         &mut TileStats::default(),
-    ) * weight
+    ) * c.weight
 }
 
 /// The checks every tile render makes before tracing anything.
@@ -385,6 +451,8 @@ fn check_tile(
 /// sampling adaptively, its error statistics.
 struct Group<'a, S> {
     first: UVec2,
+    /// The differential spacing (0: no texture filtering).
+    spacing: f32,
     lanes: &'a mut [S; 8],
     film: &'a mut [PixelSum],
     errors: Option<&'a mut [PixelError; 8]>,
@@ -404,23 +472,33 @@ impl<S: Sampler> Group<'_, S> {
         stats: &mut TileStats,
     ) {
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
-        let mut weights = [1.0f32; 8];
+        let mut samples = [None; 8];
         for (k, &l) in ids.iter().enumerate() {
             let pixel = self.first + UVec2::new(l as u32, 0);
-            (rays[k], weights[k]) =
-                camera_ray(camera, &settings.filter, &mut self.lanes[l], pixel, index);
+            let c = camera_ray(
+                camera,
+                &settings.filter,
+                self.spacing,
+                &mut self.lanes[l],
+                pixel,
+                index,
+            );
+            rays[k] = c.ray;
+            samples[k] = Some(c);
         }
         let mut hits = HitPacket8::NONE;
         scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
         for (k, &l) in ids.iter().enumerate() {
+            let c = samples[k].expect("set above");
             let v = trace_path(
                 scene,
                 &mut self.lanes[l],
                 settings,
-                rays[k],
+                c.ray,
                 hits.hit(k),
+                c.diff,
                 stats,
-            ) * weights[k];
+            ) * c.weight;
             self.film[l].add_sample(v);
             if let Some(e) = self.errors.as_deref_mut() {
                 e[l].add(v);
@@ -451,6 +529,7 @@ pub fn render_tile<S: Sampler + Clone>(
     check_tile(camera, settings, tile, film.len())?;
     let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
+    let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
     for row in 0..tile.height {
         let y = tile.y0 + row;
@@ -460,6 +539,7 @@ pub fn render_tile<S: Sampler + Clone>(
             let at = (row * tile.width + col) as usize;
             let mut group = Group {
                 first: UVec2::new(tile.x0 + col, y),
+                spacing,
                 lanes: &mut lanes,
                 film: &mut film[at..at + n],
                 errors: None,
@@ -505,7 +585,8 @@ pub fn render_tile<S: Sampler + Clone>(
 ///     vfov_deg: 40.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
 /// };
 /// let camera = Camera::new(&desc, 8, 4).unwrap();
-/// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX };
+/// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX,
+///     texture_filter: TextureFilter::None };
 /// let adaptive = Adaptive::new(4, 64, 0.02).unwrap();
 /// let tile = Tile { x0: 0, y0: 0, width: 8, height: 4 };
 /// let mut film = [PixelSum::ZERO; 32];
@@ -528,6 +609,7 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
     check_tile(camera, settings, tile, film.len())?;
     let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
+    let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     for row in 0..tile.height {
         let y = tile.y0 + row;
         let mut col = 0;
@@ -537,6 +619,7 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             let mut errors = [PixelError::ZERO; 8];
             let mut group = Group {
                 first: UVec2::new(tile.x0 + col, y),
+                spacing,
                 lanes: &mut lanes,
                 film: &mut film[at..at + n],
                 errors: Some(&mut errors),

@@ -43,6 +43,9 @@ pub struct SurfaceHit {
     /// The sphere's `(u, v)` at the point; the integrator leaves it zero
     /// when the material does not read it ([`Material::uses_uv`]).
     pub uv: Vec2,
+    /// Half-widths, per world axis, of the box textures are averaged over
+    /// ([`Texture::filtered`]); zero for point sampling.
+    pub footprint: Vec3,
 }
 
 /// How a sampled direction was chosen.
@@ -387,7 +390,7 @@ impl Material<'_> {
     pub fn brdf(&self, d: Vec3, hit: &SurfaceHit, wi: Vec3) -> Vec3 {
         let n = hit.n;
         let v = -d;
-        let rho = |t: &Texture<'_>| t.value(hit.uv, hit.p);
+        let rho = |t: &Texture<'_>| t.filtered(hit.uv, hit.p, hit.footprint);
         let cos_l = n.dot(wi);
         if cos_l <= 0.0 {
             return Vec3::ZERO;
@@ -480,7 +483,9 @@ impl Material<'_> {
     /// ```
     /// use glam::{Vec2, Vec3};
     /// use strata::render::{Lobe, Material, SurfaceHit, Texture};
-    /// let hit = SurfaceHit { p: Vec3::ZERO, n: Vec3::Y, front_face: true, uv: Vec2::ZERO };
+    /// let hit = SurfaceHit {
+    ///     p: Vec3::ZERO, n: Vec3::Y, front_face: true, uv: Vec2::ZERO, footprint: Vec3::ZERO,
+    /// };
     /// let m = Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) };
     /// let s = m.sample(-Vec3::Y, &hit, Vec2::new(0.3, 0.6), 0.5).unwrap();
     /// // Cosine sampling a Lambertian: the weight is exactly its albedo.
@@ -560,6 +565,7 @@ mod tests {
         n: Vec3::Y,
         front_face: true,
         uv: Vec2::ZERO,
+        footprint: Vec3::ZERO,
     };
 
     #[test]

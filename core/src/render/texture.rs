@@ -1,5 +1,18 @@
 //! Textures: a solid colour, the course's 3-D checker, and an image read
 //! from a borrowed slice of linear RGB texels.
+//!
+//! # Prefiltering
+//!
+//! A point-sampled checker aliases: far away, a pixel covers many cells
+//! and one sample picks one of them. [`Texture::filtered`] returns the
+//! checker's average over a box around the point instead, in closed form.
+//! The checker is `even·(1 + P)/2 + odd·(1 − P)/2` with `P = q(x/s)·q(y/s)
+//! ·q(z/s)` and `q(t) = (−1)^⌊t⌋`, a square wave; over a box the product
+//! averages axis by axis, and the average of `q` over `[t − h, t + h]` is
+//! `(Q(t + h) − Q(t − h)) / 2h` with `Q(t) = ∫₀ᵗ q`, a triangle wave
+//! (`Q = f` in even cells, `1 − f` in odd ones, `f` the fraction of `t`).
+//! The integrator supplies the box from the camera's ray differentials
+//! ([`TextureFilter::Box`]).
 
 use glam::{Vec2, Vec3};
 
@@ -54,6 +67,43 @@ impl<'a> ImageTexture<'a> {
     }
 }
 
+/// How textures are filtered over a camera ray's footprint.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// Point sampling: the texture at the hit point (the course's).
+    #[default]
+    None,
+    /// The checker's closed-form average over a box with the footprint's
+    /// extent (see [`Texture::filtered`]); other textures point-sampled.
+    Box,
+}
+
+/// `Q(t) = ∫₀ᵗ (−1)^⌊u⌋ du`: a triangle wave between 0 and 1.
+#[inline]
+fn square_wave_integral(t: f64) -> f64 {
+    let k = libm::floor(t);
+    let f = t - k;
+    if libm::floor(k * 0.5) * 2.0 == k {
+        f
+    } else {
+        1.0 - f
+    }
+}
+
+/// The average of `(−1)^⌊u⌋` over `[t − h, t + h]`, in cells; `None` when
+/// `h` is too small to average over (the caller point-samples).
+#[inline]
+fn square_wave_average(t: f64, h: f64) -> Option<f64> {
+    if h < 1e-6 {
+        None
+    } else if h < 1e9 && t.is_finite() {
+        Some((square_wave_integral(t + h) - square_wave_integral(t - h)) / (2.0 * h))
+    } else {
+        // So wide (or undefined) that the cells cancel.
+        Some(0.0)
+    }
+}
+
 /// A colour as a function of the surface point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Texture<'a> {
@@ -100,6 +150,48 @@ impl Texture<'_> {
             }
             Texture::Image(img) => img.lookup(uv),
         }
+    }
+
+    /// The texture averaged over the axis-aligned box of half-widths
+    /// `half_width` (world units) around `p`: in closed form for the
+    /// checker (see the [module docs](self)), the value at the point for
+    /// the others. An axis narrower than 10⁻⁶ cells is point-sampled, so
+    /// a zero box gives [`Texture::value`] exactly; an infinite or NaN
+    /// width averages the cells away, giving `(even + odd) / 2`.
+    ///
+    /// ```
+    /// use glam::{Vec2, Vec3};
+    /// use strata::render::Texture;
+    /// let c = Texture::Checker { scale: 1.0, even: Vec3::ZERO, odd: Vec3::ONE };
+    /// let p = Vec3::new(0.5, 0.5, 0.5);
+    /// assert_eq!(c.filtered(Vec2::ZERO, p, Vec3::ZERO), c.value(Vec2::ZERO, p));
+    /// // Half a cell either side of a boundary in x: half even, half odd.
+    /// let edge = c.filtered(Vec2::ZERO, Vec3::new(1.0, 0.5, 0.5), Vec3::new(0.5, 0.0, 0.0));
+    /// assert!((edge - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+    /// // A box of whole cells averages to the mean colour.
+    /// let far = c.filtered(Vec2::ZERO, p, Vec3::new(2.0, 0.0, 3.0));
+    /// assert!((far - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn filtered(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
+        let Texture::Checker { scale, even, odd } = self else {
+            return self.value(uv, p);
+        };
+        if half_width == Vec3::ZERO {
+            return self.value(uv, p);
+        }
+        let s = *scale as f64;
+        let axis = |x: f32, h: f32| {
+            square_wave_average(x as f64 / s, h as f64 / s).unwrap_or_else(|| {
+                // The point value, by the same cell rule as `value`.
+                let k = libm::floorf(x / scale) as i64;
+                if k & 1 == 0 { 1.0 } else { -1.0 }
+            })
+        };
+        let parity = axis(p.x, half_width.x) * axis(p.y, half_width.y) * axis(p.z, half_width.z);
+        let a = ((1.0 + parity) * 0.5) as f32;
+        *even * a + *odd * (1.0 - a)
     }
 
     /// Whether [`Texture::value`] reads `uv` (only image textures do), so
