@@ -10,6 +10,7 @@ pub mod image_io;
 pub mod render;
 pub mod scene_file;
 pub mod scenes;
+pub mod spectrum;
 pub mod study;
 pub mod workload;
 

@@ -287,7 +287,7 @@ pub fn series(points: &[Point], sampler: SamplerKind) -> Vec<(f64, f64)> {
 /// Registers the bundled font (Ubuntu Light, from `epaint_default_fonts`)
 /// as plotters' `sans-serif` once, so text draws the same on any machine
 /// and needs no system fonts.
-fn fonts() -> Result<()> {
+pub(crate) fn fonts() -> Result<()> {
     static DONE: OnceLock<bool> = OnceLock::new();
     let ok = *DONE.get_or_init(|| {
         plotters::style::register_font(
@@ -305,7 +305,7 @@ fn fonts() -> Result<()> {
 }
 
 /// Line colours, one per sampler, in [`SamplerKind`] order.
-fn colour(sampler: SamplerKind) -> RGBColor {
+pub(crate) fn colour(sampler: SamplerKind) -> RGBColor {
     match sampler {
         SamplerKind::Independent => RGBColor(0xd6, 0x27, 0x28),
         SamplerKind::Grid => RGBColor(0x7f, 0x7f, 0x7f),

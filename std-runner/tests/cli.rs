@@ -1251,3 +1251,57 @@ fn texture_filter_is_chosen_on_the_command_line_and_named_in_metadata() {
     let e = refused(d, &["render", "--texture-filter", "trilinear"]);
     assert!(e.contains("--texture-filter"), "{e}");
 }
+
+#[test]
+fn spectrum_writes_an_image_a_plot_and_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let said = ok(
+        d,
+        &[
+            "spectrum",
+            "--sampler",
+            "independent,stratified",
+            "--spp",
+            "16",
+            "--pixels",
+            "64",
+            "-o",
+            "s.png",
+        ],
+    );
+    assert!(
+        said.contains("stratified   mean power below √spp"),
+        "{said}"
+    );
+    let csv = String::from_utf8(bytes(&d.join("s-radial.csv"))).unwrap();
+    assert!(
+        csv.starts_with("frequency,independent,stratified\n1,"),
+        "{csv}"
+    );
+    // Default range 16 for 16 spp: a row per radius.
+    assert_eq!(csv.lines().count(), 17);
+    assert_eq!(png_size(&d.join("s-radial.png")), (800, 480));
+    let (w, h) = png_size(&d.join("s.png"));
+    assert!(w > 2 * 33 * 7 && h > 33 * 7, "{w}x{h}");
+    for (args, want) in [
+        (vec!["spectrum", "--sampler", "sobel"], "--sampler"),
+        (vec!["spectrum", "--spp", "0"], "--spp"),
+        (
+            vec!["spectrum", "--max-frequency", "129"],
+            "--max-frequency",
+        ),
+        (vec!["spectrum", "-o", "s.jpg"], "must end in .png"),
+        (
+            vec!["spectrum", "-o", "t.png", "--csv", "t.txt"],
+            "must end in .csv",
+        ),
+        (
+            vec!["spectrum", "-o", "t.png", "--plot", "t.png"],
+            "is the spectrum image",
+        ),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+}

@@ -340,6 +340,23 @@ fn differential_spacing(settings: &RenderSettings, spp: u32) -> f32 {
     }
 }
 
+/// The rays through `offset` moved by `spacing` pixels in x and in y.
+/// Out of line: the common path without texture filtering keeps its one
+/// camera ray inlined.
+#[inline(never)]
+fn differentials(
+    camera: &Camera,
+    pixel: UVec2,
+    offset: Vec2,
+    lens: Vec2,
+    spacing: f32,
+) -> [Ray; 2] {
+    [
+        camera.ray(pixel, offset + Vec2::new(spacing, 0.0), lens),
+        camera.ray(pixel, offset + Vec2::new(0.0, spacing), lens),
+    ]
+}
+
 /// The camera sample `index` of `pixel`, with differential rays `spacing`
 /// pixels apart (none if 0); leaves the sampler after the camera's
 /// dimensions (pixel 0–1, lens 2–3).
@@ -355,12 +372,7 @@ fn camera_ray<S: Sampler>(
     sampler.start_pixel_sample(pixel, index);
     let f = filter.pixel_sample(sampler.pixel_2d());
     let lens = sampler.next_2d();
-    let diff = (spacing > 0.0).then(|| {
-        [
-            camera.ray(pixel, f.offset + Vec2::new(spacing, 0.0), lens),
-            camera.ray(pixel, f.offset + Vec2::new(0.0, spacing), lens),
-        ]
-    });
+    let diff = (spacing > 0.0).then(|| differentials(camera, pixel, f.offset, lens, spacing));
     CameraSample {
         ray: camera.ray(pixel, f.offset, lens),
         weight: f.weight,
@@ -461,7 +473,7 @@ struct Group<'a, S> {
 impl<S: Sampler> Group<'_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
     /// rays as one packet, and adds each value to its pixel.
-    #[inline]
+    #[inline(always)]
     fn trace(
         &mut self,
         scene: &Scene<'_>,
@@ -472,7 +484,8 @@ impl<S: Sampler> Group<'_, S> {
         stats: &mut TileStats,
     ) {
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
-        let mut samples = [None; 8];
+        let mut weights = [0.0f32; 8];
+        let mut diffs = [None; 8];
         for (k, &l) in ids.iter().enumerate() {
             let pixel = self.first + UVec2::new(l as u32, 0);
             let c = camera_ray(
@@ -483,22 +496,20 @@ impl<S: Sampler> Group<'_, S> {
                 pixel,
                 index,
             );
-            rays[k] = c.ray;
-            samples[k] = Some(c);
+            (rays[k], weights[k], diffs[k]) = (c.ray, c.weight, c.diff);
         }
         let mut hits = HitPacket8::NONE;
         scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
         for (k, &l) in ids.iter().enumerate() {
-            let c = samples[k].expect("set above");
             let v = trace_path(
                 scene,
                 &mut self.lanes[l],
                 settings,
-                c.ray,
+                rays[k],
                 hits.hit(k),
-                c.diff,
+                diffs[k],
                 stats,
-            ) * c.weight;
+            ) * weights[k];
             self.film[l].add_sample(v);
             if let Some(e) = self.errors.as_deref_mut() {
                 e[l].add(v);
