@@ -38,7 +38,7 @@ fn adaptive(mut j: Job<'_>, base: u32, max: u32, threshold: f32) -> Job<'_> {
 }
 
 fn taken(p: &PixelSum) -> u32 {
-    p.samples + p.dropped
+    p.taken()
 }
 
 #[test]
@@ -116,6 +116,55 @@ fn adaptive_renders_are_the_same_for_any_threads_tiles_and_crops() {
         let merged = merge(&parts, &names).unwrap();
         assert!(merged.pixels == one, "{name}: merged crops");
     }
+}
+
+#[test]
+fn adaptive_jobs_refuse_sample_runs_and_the_grid() {
+    let scene = built_in("week09").unwrap();
+    let base = adaptive(job(&scene, 8, 4, 4, 0), 4, 16, 0.05);
+    let run_err = |j: &Job<'_>| format!("{:#}", run(j, &|_| {}).unwrap_err());
+    let part = Job {
+        samples: 0..8,
+        ..base.clone()
+    };
+    assert!(
+        run_err(&part).contains("not 0..8 of 16"),
+        "{}",
+        run_err(&part)
+    );
+    let grid = Job {
+        sampler: SamplerKind::Grid,
+        ..base.clone()
+    };
+    assert!(run_err(&grid).contains("the grid fills its rows in order"));
+    // The core refuses a sampler pattern smaller than the maximum.
+    let data = built_in("week09").unwrap();
+    let camera = strata::render::Camera::new(&data.camera, 8, 4).unwrap();
+    let settings = strata::render::RenderSettings {
+        max_depth: 2,
+        direct_lighting: true,
+        filter: PixelFilter::BOX,
+        texture_filter: strata::render::TextureFilter::None,
+    };
+    let mut film = vec![PixelSum::ZERO; 32];
+    let e = data
+        .with_scene(|s| {
+            strata::render::render_tile_adaptive(
+                s,
+                &camera,
+                &strata::Independent::new(8, 0).unwrap(),
+                &settings,
+                whole(8, 4),
+                Adaptive::new(4, 16, 0.05).unwrap(),
+                &mut film,
+            )
+        })
+        .unwrap();
+    assert_eq!(
+        e,
+        Err(strata::render::RenderError::SamplerTooSmall { spp: 8, max: 16 })
+    );
+    assert!(film.iter().all(|p| *p == PixelSum::ZERO), "nothing traced");
 }
 
 /// A diffuse sphere on a diffuse ground under the course's sky (or, with

@@ -131,7 +131,7 @@ proptest! {
         let names: Vec<PathBuf> = (0..parts.len()).map(|i| format!("part{i}.film").into()).collect();
         let merged = merge(&parts, &names).unwrap();
         prop_assert_eq!(&merged.pixels, &one_shot.pixels);
-        prop_assert!(merged.pixels.iter().all(|p: &PixelSum| p.samples + p.dropped == SPP));
+        prop_assert!(merged.pixels.iter().all(|p: &PixelSum| p.taken() == SPP));
         // The same parts through the file format.
         let reread: Vec<Film> = parts.iter().map(|p| Film::from_bytes(&p.to_bytes()).unwrap()).collect();
         prop_assert_eq!(&reread, &parts);

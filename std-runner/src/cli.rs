@@ -894,10 +894,20 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let base_spp = args.spp.unwrap_or(d.spp);
     let adaptive = match (args.adaptive, args.max_spp) {
         (Some(t), Some(max)) => Some(strata::render::Adaptive::new(base_spp, max, t).map_err(
-            |_| anyhow::anyhow!("--max-spp {max} is below the base count --spp {base_spp}"),
+            |_| {
+                anyhow::anyhow!(
+                    "--max-spp {max} is below the base count {base_spp} (--spp or the scene's)"
+                )
+            },
         )?),
         _ => None,
     };
+    if adaptive.is_some() && args.sampler == SamplerKind::Grid {
+        bail!(
+            "--adaptive needs a sampler whose first samples spread over the pixel \
+             (independent, stratified, sobol, halton): the grid fills its rows in order"
+        );
+    }
     // The sampler's pattern holds every sample a pixel may take.
     let spp = adaptive.map_or(base_spp, |a| a.max());
     let max_depth = args.max_depth.unwrap_or(d.max_depth);
@@ -1064,11 +1074,7 @@ fn same_path(a: &Path, b: &Path) -> bool {
 
 /// Mean, least and most samples per pixel, and the share at the maximum.
 fn spp_summary(film: &Film) -> String {
-    let taken: Vec<u64> = film
-        .pixels
-        .iter()
-        .map(|p| p.samples as u64 + p.dropped as u64)
-        .collect();
+    let taken: Vec<u64> = film.pixels.iter().map(|p| p.taken() as u64).collect();
     let n = taken.len().max(1) as f64;
     let at_max = taken
         .iter()

@@ -404,35 +404,16 @@ impl Film {
                 }
             })
             .collect::<Vec<PixelSum>>();
-        // Every pixel took every sample of the range, kept or dropped; an
-        // adaptive pixel took from the base count up to the maximum.
-        let n = samples.end - samples.start;
-        let taken = |p: &PixelSum| p.samples as u64 + p.dropped as u64;
-        let base = adaptive.map_or(n, |a| a.base()) as u64;
-        if let Some(at) = pixels
-            .iter()
-            .position(|p| !(base..=n as u64).contains(&taken(p)))
-        {
-            let want = if adaptive.is_some() {
-                format!("{base} to {n}")
-            } else {
-                n.to_string()
-            };
-            bail!(
-                "pixel {at} of the window holds {} samples where the range {}..{} has {want}",
-                taken(&pixels[at]),
-                samples.start,
-                samples.end
-            );
-        }
+        let key = RenderKey {
+            fields,
+            width,
+            height,
+            spp,
+            adaptive_base: adaptive.map(|a| a.base()),
+        };
+        check_counts(&key, &samples, &pixels)?;
         Ok(Film {
-            key: RenderKey {
-                fields,
-                width,
-                height,
-                spp,
-                adaptive_base: adaptive.map(|a| a.base()),
-            },
+            key,
             window,
             samples,
             pixels,
@@ -445,6 +426,38 @@ impl Film {
             std::fs::read(path).with_context(|| format!("cannot read `{}`", path.display()))?;
         Film::from_bytes(&bytes).with_context(|| format!("`{}`", path.display()))
     }
+}
+
+/// Every pixel took every sample of the range, kept or dropped; an
+/// adaptive pixel (whose range is all of `0..spp`) took a whole number of
+/// base-sized batches, or the maximum.
+fn check_counts(key: &RenderKey, samples: &Range<u32>, pixels: &[PixelSum]) -> Result<()> {
+    let n = samples.end - samples.start;
+    if key.adaptive_base.is_some() && *samples != (0..key.spp) {
+        bail!(
+            "an adaptive film must cover samples 0..{}, not {}..{}",
+            key.spp,
+            samples.start,
+            samples.end
+        );
+    }
+    let possible = |t: u32| match key.adaptive_base {
+        None => t == n,
+        Some(base) => t == n || (t >= base && t < n && t.is_multiple_of(base)),
+    };
+    if let Some(at) = pixels.iter().position(|p| !possible(p.taken())) {
+        let want = match key.adaptive_base {
+            None => n.to_string(),
+            Some(base) => format!("a multiple of {base} up to {n}"),
+        };
+        bail!(
+            "pixel {at} of the window holds {} samples where the range {}..{} has {want}",
+            pixels[at].taken(),
+            samples.start,
+            samples.end
+        );
+    }
+    Ok(())
 }
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
@@ -520,6 +533,8 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
                 name(i)
             );
         }
+        check_counts(&p.key, &p.samples, &p.pixels)
+            .with_context(|| format!("`{}` is inconsistent", name(i)))?;
     }
     let cols = |t: &Tile| t.x0..t.x0 + t.width;
     let rows = |t: &Tile| t.y0..t.y0 + t.height;
@@ -675,16 +690,23 @@ mod tests {
         f.key.fields[11].1 = "threshold=0.05 base=2 max=8".into();
         f.key.adaptive_base = Some(2);
         for (i, p) in f.pixels.iter_mut().enumerate() {
-            p.samples = 1 + (i as u32 % 7); // 2..=8 with the dropped one
+            p.samples = 1 + 2 * (i as u32 % 4); // 2, 4, 6, 8 with the dropped one
         }
         assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
-        let mut low = f.clone();
-        low.pixels[3].samples = 0;
-        let e = refused(&low.to_bytes());
-        assert!(
-            e.contains("holds 1 samples where the range 0..8 has 2 to 8"),
-            "{e}"
-        );
+        for bad in [0, 2] {
+            let mut odd = f.clone();
+            odd.pixels[3].samples = bad; // 1 or 3 taken: no batch ends there
+            let e = refused(&odd.to_bytes());
+            let want = format!(
+                "holds {} samples where the range 0..8 has a multiple of 2",
+                bad + 1
+            );
+            assert!(e.contains(&want), "{e}");
+            // Built in code, the merge checks the same.
+            let names = [PathBuf::from("odd")];
+            let e = format!("{:#}", merge(&[odd], &names).unwrap_err());
+            assert!(e.contains(&want), "{e}");
+        }
         let mut part = f.clone();
         part.samples = 0..4;
         let e = refused(&part.to_bytes());

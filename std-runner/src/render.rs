@@ -148,6 +148,12 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
             job.height
         ));
     }
+    if job.adaptive.is_some() && job.sampler == SamplerKind::Grid {
+        return Err(anyhow!(
+            "adaptive sampling needs a sampler whose first samples spread over the pixel; \
+             the grid fills its rows in order"
+        ));
+    }
     if let Some(a) = job.adaptive
         && (a.max() != job.spp || job.samples != (0..job.spp))
     {

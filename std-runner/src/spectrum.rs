@@ -49,9 +49,16 @@ impl Spectrum {
     }
 
     /// `P` at frequency `(wx, wy)`, each in `−r..=r`.
+    ///
+    /// # Panics
+    /// If either is outside `−r..=r`.
     #[must_use]
     pub fn at(&self, wx: i32, wy: i32) -> f64 {
         let r = self.r as i32;
+        assert!(
+            (-r..=r).contains(&wx) && (-r..=r).contains(&wy),
+            "frequency ({wx}, {wy}) outside ±{r}"
+        );
         self.power[((wy + r) as usize) * self.side() + (wx + r) as usize]
     }
 
@@ -78,10 +85,12 @@ impl Spectrum {
 }
 
 /// The default frequency range for `spp` samples: four times the strata
-/// frequency `√spp`, at least 16.
+/// frequency `√spp`, at least 16 and at most [`MAX_RANGE`].
 #[must_use]
 pub fn default_range(spp: u32) -> u32 {
-    (4.0 * (spp as f64).sqrt()).ceil().max(16.0) as u32
+    (4.0 * (spp as f64).sqrt())
+        .ceil()
+        .clamp(16.0, MAX_RANGE as f64) as u32
 }
 
 /// The largest frequency range accepted (a 257 × 257 grid).
@@ -149,21 +158,28 @@ fn average<S: Sampler + Clone + Send + Sync>(
             .map(|&(re, im)| (re * re + im * im) / spp as f64)
             .collect::<Vec<f64>>()
     };
-    // Fixed chunks summed in order: the same bits for any thread count.
+    // Chunks of 16 pixels, 64 chunks at a time in parallel, added to the
+    // total in order: the same bits for any thread count, and memory
+    // bounded by 64 partial sums whatever the pixel count.
     let add = |mut a: Vec<f64>, b: Vec<f64>| {
         a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
         a
     };
-    let chunks: Vec<Vec<f64>> = (0..pixels.div_ceil(16))
-        .into_par_iter()
-        .map(|c| {
-            (c * 16..(c * 16 + 16).min(pixels))
-                .map(one)
-                .reduce(add)
-                .expect("a pixel")
-        })
-        .collect();
-    let total = chunks.into_iter().reduce(add)?;
+    let chunk = |c: u32| {
+        (c * 16..(c * 16 + 16).min(pixels))
+            .map(one)
+            .reduce(add)
+            .expect("a chunk holds a pixel")
+    };
+    let chunks = pixels.div_ceil(16);
+    let mut total = vec![0.0; side * side];
+    for wave in (0..chunks).step_by(64) {
+        let sums: Vec<Vec<f64>> = (wave..(wave + 64).min(chunks))
+            .into_par_iter()
+            .map(chunk)
+            .collect();
+        total = sums.into_iter().fold(total, add);
+    }
     Some(total.into_iter().map(|p| p / pixels as f64).collect())
 }
 
@@ -297,6 +313,14 @@ mod tests {
         // One sample: |e^{…}|² / 1 = 1 everywhere.
         let s = spectrum(SamplerKind::Independent, 1, 0, 3, 5).unwrap();
         assert!(s.power.iter().all(|&p| (p - 1.0).abs() < 1e-9));
+    }
+
+    #[test]
+    fn the_default_range_stays_within_the_limit() {
+        assert_eq!(default_range(1), 16);
+        assert_eq!(default_range(64), 32);
+        assert_eq!(default_range(4096), MAX_RANGE);
+        assert!(spectrum(SamplerKind::Independent, 1089, 0, 1, default_range(1089)).is_ok());
     }
 
     #[test]

@@ -167,7 +167,12 @@ pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec
     if let Some(pixels) = read_reference(&path, &key, n) {
         return Ok((pixels, true));
     }
-    let pixels = view.render(SamplerKind::Sobol, spp, REFERENCE_SEED)?;
+    // References are point-sampled whatever the view measures.
+    let point = View {
+        texture_filter: strata::render::TextureFilter::None,
+        ..view.clone()
+    };
+    let pixels = point.render(SamplerKind::Sobol, spp, REFERENCE_SEED)?;
     let stored = std::fs::create_dir_all(cache_dir)
         .map_err(anyhow::Error::from)
         .and_then(|()| write_atomic(&path, |tmp| write_reference(tmp, &key, &pixels)));
@@ -459,7 +464,7 @@ pub fn side_by_side(
     Ok((buf, w, h))
 }
 
-/// The heat map of the samples each pixel took (`samples + dropped`), as
+/// The heat map of the samples each pixel took ([`PixelSum::taken`]), as
 /// 8-bit RGB: viridis on a log scale, from `base` samples (dark blue) to
 /// `max` (yellow). Counts outside are clamped; with `max == base` every
 /// pixel is dark.
@@ -471,7 +476,7 @@ pub fn spp_heat_map(pixels: &[PixelSum], base: u32, max: u32) -> Vec<u8> {
     pixels
         .iter()
         .flat_map(|p| {
-            let taken = (p.samples as u64 + p.dropped as u64).max(1) as f64;
+            let taken = p.taken().max(1) as f64;
             let t = if span > 0.0 {
                 ((taken.ln() - lo) / span).clamp(0.0, 1.0)
             } else {

@@ -1066,8 +1066,15 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
     cover_render(d, "full.exr", &adaptive);
     let full = String::from_utf8_lossy(&bytes(&d.join("full.png"))).into_owned();
     assert!(full.contains("threshold=0.05 base=6 max=48"), "metadata");
-    // The map is the image's size, and varies.
+    // The map is the image's size, and varies: dark at the base count,
+    // brighter where pixels took more.
     assert_eq!(png_size(&d.join("map.png")), png_size(&d.join("full.png")));
+    let map = strata_runner::image_io::read_png_linear(&d.join("map.png")).unwrap();
+    let lum: Vec<f32> = map.texels.iter().map(|c| c.y).collect();
+    let (lo, hi) = lum
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(hi > lo + 0.2, "spp map from {lo} to {hi}");
     // Crops of an adaptive render merge into the one-shot image, and so
     // does its spp map.
     cover_render(d, "a.film", &with(&adaptive, &["--crop", "0,0.5,0,1"]));
@@ -1150,9 +1157,21 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
                 "--max-spp",
                 "8",
             ],
-            "--max-spp 8 is below the base count --spp 16",
+            "--max-spp 8 is below the base count 16 (--spp or the scene's)",
         ),
         (vec!["render", "--spp-map", "m.png"], "--adaptive"),
+        (
+            vec![
+                "render",
+                "--sampler",
+                "grid",
+                "--adaptive",
+                "0.1",
+                "--max-spp",
+                "64",
+            ],
+            "--adaptive needs a sampler whose first samples spread",
+        ),
         (
             vec![
                 "render",

@@ -1,40 +1,12 @@
 //! Adaptive sampling: a base pass, then batches of samples while a pixel's
 //! estimated relative error exceeds a threshold.
 //!
-//! # The estimator
-//!
-//! Over the `n` finite samples a pixel has taken so far (filter weight
-//! included), with `yᵢ` the Rec. 709 luminance `0.2126 r + 0.7152 g +
-//! 0.0722 b` of sample `i`, computed in `f64`:
-//!
-//! ```text
-//! mean   m  = Σ yᵢ / n
-//! var    s² = max(0, (Σ yᵢ² − m Σ yᵢ) / (n − 1))      unbiased sample variance
-//! error  e  = sqrt(s² / n) / max(|m|, ERROR_FLOOR)    relative standard error
-//! ```
-//!
-//! `e` is the standard error of the pixel's mean relative to the mean, so
-//! a threshold of 0.05 asks for a 1-σ error of 5 %. Pixels darker than
-//! [`ERROR_FLOOR`] are held to the absolute error `threshold ×
-//! ERROR_FLOOR` instead: a relative error of a near-black pixel is
-//! unbounded and invisible once displayed. With fewer than two finite
-//! samples the error is unknown and counts as infinite, so such a pixel
-//! keeps sampling.
-//!
-//! The sums run in sample-index order over the pixel's own samples and
-//! nothing else, so the decision, and so the pixel, is the same for any
-//! thread count, tile or pixel window. (It is not the same for any split
-//! of the samples: the stopping point needs all earlier samples of the
-//! pixel, which is why a run of samples `A..B` cannot be adaptive.)
-//!
-//! Stopping on a noisy estimate is slightly biased: a pixel whose early
-//! samples happen to agree stops early. The bias is far below the noise
-//! it saves for the thresholds this is meant for (measured in the suite).
+//! See [`PixelError`] for the estimator.
 
 use glam::Vec3;
 
 /// Below this mean luminance a pixel's error is measured against the floor
-/// rather than its mean (see the [module docs](self)).
+/// rather than its mean (see [`PixelError`]).
 pub const ERROR_FLOOR: f64 = 0.05;
 
 /// How adaptive sampling proceeds: `base` samples every pixel, then
@@ -139,8 +111,38 @@ impl Adaptive {
     }
 }
 
-/// The running sums behind a pixel's error estimate (see the
-/// [module docs](self)).
+/// The running sums behind a pixel's error estimate.
+///
+/// Over the `n` finite samples a pixel has taken so far (filter weight
+/// included), with `yᵢ` the Rec. 709 luminance `0.2126 r + 0.7152 g +
+/// 0.0722 b` of sample `i`, computed in `f64`:
+///
+/// ```text
+/// mean   m  = Σ yᵢ / n
+/// var    s² = max(0, (Σ yᵢ² − m Σ yᵢ) / (n − 1))      unbiased sample variance
+/// error  e  = sqrt(s² / n) / max(|m|, ERROR_FLOOR)    relative standard error
+/// ```
+///
+/// `e` is the standard error of the pixel's mean relative to the mean, so
+/// a threshold of 0.05 asks for a 1-σ error of 5 %. Pixels darker than
+/// [`ERROR_FLOOR`] are held to the absolute error `threshold ×
+/// ERROR_FLOOR` instead: a relative error of a near-black pixel is
+/// unbounded and invisible once displayed. With fewer than two finite
+/// samples the error is unknown and counts as infinite, so such a pixel
+/// keeps sampling.
+///
+/// The sums run in sample-index order over the pixel's own samples and
+/// nothing else, so the decision, and so the pixel, is the same for any
+/// thread count, tile or pixel window. (It is not the same for any split
+/// of the samples: the stopping point needs all earlier samples of the
+/// pixel, which is why a run of samples `A..B` cannot be adaptive.)
+///
+/// Stopping on a noisy estimate is slightly biased: samples that happen
+/// to be bright make a smaller relative error and stop sooner, and a pixel
+/// whose first samples agree (all on one checker cell of an edge pixel)
+/// stops at once. Measured in the suite: +0.4 % of the mean luminance on
+/// `week09` with a base of 16, far below each pixel's noise. Use a base
+/// of 16 samples or more: the bias grows as the base shrinks.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelError {
     n: u32,

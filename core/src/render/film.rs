@@ -107,6 +107,22 @@ impl PixelSum {
         self.dropped = self.dropped.saturating_add(other.dropped);
     }
 
+    /// Samples taken, kept or dropped (saturating).
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let mut a = PixelSum::ZERO;
+    /// a.add_sample(Vec3::ONE);
+    /// a.add_sample(Vec3::splat(f32::INFINITY));
+    /// assert_eq!(a.taken(), 2);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn taken(&self) -> u32 {
+        self.samples.saturating_add(self.dropped)
+    }
+
     /// The mean of the kept samples as linear RGB (black with none).
     #[inline]
     #[must_use]

@@ -73,9 +73,10 @@ pub struct RenderSettings {
     /// is the course's point sampling). With [`TextureFilter::Box`] the
     /// footprint comes from ray differentials: the rays through the same
     /// lens point and the pixel position moved by `δ` in x and in y,
-    /// intersected with the hit's tangent plane, give `dp/dx` and `dp/dy`;
-    /// the box has, per world axis, the parallelogram's standard deviation
-    /// (`√(dpdxᵢ² + dpdyᵢ²) / 2`). `δ = max(1/8, 1/√spp)` pixels, as in
+    /// intersected with the hit's tangent plane, give the offsets `Δx` and
+    /// `Δy` (per `δ`, not per pixel); the box's half-width per world axis,
+    /// `√(Δxᵢ² + Δyᵢ²) / 2`, gives it the standard deviation of the
+    /// parallelogram they span. `δ = max(1/8, 1/√spp)` pixels, as in
     /// pbrt-v4: more samples per pixel already average over the pixel, so
     /// each filters less. Later vertices are point-sampled.
     pub texture_filter: TextureFilter,
@@ -131,6 +132,14 @@ pub enum RenderError {
     MaxDepth,
     /// The tile is empty or reaches outside the camera's image.
     Tile,
+    /// The sampler's pattern is smaller than the adaptive maximum
+    /// ([`render_tile_adaptive`]).
+    SamplerTooSmall {
+        /// The sampler's samples per pixel.
+        spp: u32,
+        /// The most samples a pixel may take.
+        max: u32,
+    },
     /// The film slice does not have one entry per tile pixel.
     FilmSize {
         /// Entries needed: the tile's area.
@@ -459,30 +468,31 @@ fn check_tile(
 }
 
 /// Up to 8 neighbouring pixels of a row, traced together: lane `l` is
-/// pixel `first + (l, 0)`, with its sampler, its film entry and, when
-/// sampling adaptively, its error statistics.
-struct Group<'a, S> {
+/// pixel `first + (l, 0)`, with its sampler and its film entry.
+struct Group<'a, 's, S> {
+    scene: &'a Scene<'s>,
+    camera: &'a Camera,
+    settings: &'a RenderSettings,
     first: UVec2,
     /// The differential spacing (0: no texture filtering).
     spacing: f32,
     lanes: &'a mut [S; 8],
     film: &'a mut [PixelSum],
-    errors: Option<&'a mut [PixelError; 8]>,
 }
 
-impl<S: Sampler> Group<'_, S> {
+impl<S: Sampler> Group<'_, '_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
-    /// rays as one packet, and adds each value to its pixel.
+    /// rays as one packet, and adds each value to its pixel and, when
+    /// sampling adaptively, to its error statistics.
     #[inline(always)]
     fn trace(
         &mut self,
-        scene: &Scene<'_>,
-        camera: &Camera,
-        settings: &RenderSettings,
         ids: &[usize],
         index: u32,
+        mut errors: Option<&mut [PixelError; 8]>,
         stats: &mut TileStats,
     ) {
+        let (scene, camera, settings) = (self.scene, self.camera, self.settings);
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
         let mut weights = [0.0f32; 8];
         let mut diffs = [None; 8];
@@ -511,7 +521,7 @@ impl<S: Sampler> Group<'_, S> {
                 stats,
             ) * weights[k];
             self.film[l].add_sample(v);
-            if let Some(e) = self.errors.as_deref_mut() {
+            if let Some(e) = errors.as_deref_mut() {
                 e[l].add(v);
             }
         }
@@ -549,14 +559,16 @@ pub fn render_tile<S: Sampler + Clone>(
             let n = (tile.width - col).min(8) as usize;
             let at = (row * tile.width + col) as usize;
             let mut group = Group {
+                scene,
+                camera,
+                settings,
                 first: UVec2::new(tile.x0 + col, y),
                 spacing,
                 lanes: &mut lanes,
                 film: &mut film[at..at + n],
-                errors: None,
             };
             for index in samples.clone() {
-                group.trace(scene, camera, settings, &ALL[..n], index, &mut stats);
+                group.trace(&ALL[..n], index, None, &mut stats);
             }
             col += n as u32;
         }
@@ -573,8 +585,12 @@ pub fn render_tile<S: Sampler + Clone>(
 /// with `k` decided by its own samples alone, so tiles, threads and
 /// windows do not change it.
 ///
-/// `sampler` is the prototype and should have `samples_per_pixel() ≥
-/// adaptive.max()`: indices up to the maximum are drawn from its pattern.
+/// `sampler` is the prototype; its pattern must hold every index a pixel
+/// may take (`samples_per_pixel() ≥ adaptive.max()`, else
+/// [`RenderError::SamplerTooSmall`]), and its first samples should spread
+/// over the pixel: [`UniformGrid`](crate::UniformGrid) fills its grid in
+/// raster order, so its base pass covers the pixel's top rows only and
+/// adaptive renders with it are biased.
 ///
 /// ```
 /// use glam::{UVec2, Vec3};
@@ -618,6 +634,12 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
     film: &mut [PixelSum],
 ) -> Result<TileStats, RenderError> {
     check_tile(camera, settings, tile, film.len())?;
+    if sampler.samples_per_pixel() < adaptive.max() {
+        return Err(RenderError::SamplerTooSmall {
+            spp: sampler.samples_per_pixel(),
+            max: adaptive.max(),
+        });
+    }
     let mut stats = TileStats::default();
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
@@ -629,11 +651,13 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             let at = (row * tile.width + col) as usize;
             let mut errors = [PixelError::ZERO; 8];
             let mut group = Group {
+                scene,
+                camera,
+                settings,
                 first: UVec2::new(tile.x0 + col, y),
                 spacing,
                 lanes: &mut lanes,
                 film: &mut film[at..at + n],
-                errors: Some(&mut errors),
             };
             // Every active lane has taken the same samples, so one batch
             // serves them all and their camera rays stay one packet.
@@ -642,13 +666,9 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             let mut taken = 0;
             loop {
                 for index in adaptive.next_batch(taken) {
-                    group.trace(scene, camera, settings, &ids[..active], index, &mut stats);
+                    group.trace(&ids[..active], index, Some(&mut errors), &mut stats);
                 }
                 taken = adaptive.next_batch(taken).end;
-                let errors = group
-                    .errors
-                    .as_deref()
-                    .expect("adaptive groups keep errors");
                 let mut kept = 0;
                 for k in 0..active {
                     if adaptive.wants_more(taken, &errors[ids[k]]) {

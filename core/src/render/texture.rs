@@ -1,18 +1,5 @@
 //! Textures: a solid colour, the course's 3-D checker, and an image read
 //! from a borrowed slice of linear RGB texels.
-//!
-//! # Prefiltering
-//!
-//! A point-sampled checker aliases: far away, a pixel covers many cells
-//! and one sample picks one of them. [`Texture::filtered`] returns the
-//! checker's average over a box around the point instead, in closed form.
-//! The checker is `even·(1 + P)/2 + odd·(1 − P)/2` with `P = q(x/s)·q(y/s)
-//! ·q(z/s)` and `q(t) = (−1)^⌊t⌋`, a square wave; over a box the product
-//! averages axis by axis, and the average of `q` over `[t − h, t + h]` is
-//! `(Q(t + h) − Q(t − h)) / 2h` with `Q(t) = ∫₀ᵗ q`, a triangle wave
-//! (`Q = f` in even cells, `1 − f` in odd ones, `f` the fraction of `t`).
-//! The integrator supplies the box from the camera's ray differentials
-//! ([`TextureFilter::Box`]).
 
 use glam::{Vec2, Vec3};
 
@@ -94,10 +81,11 @@ fn square_wave_integral(t: f64) -> f64 {
 /// `h` is too small to average over (the caller point-samples).
 #[inline]
 fn square_wave_average(t: f64, h: f64) -> Option<f64> {
-    if h < 1e-6 {
+    if h < 1e-6 || h < 1e-9 * t.abs() {
         None
     } else if h < 1e9 && t.is_finite() {
-        Some((square_wave_integral(t + h) - square_wave_integral(t - h)) / (2.0 * h))
+        let avg = (square_wave_integral(t + h) - square_wave_integral(t - h)) / (2.0 * h);
+        Some(avg.clamp(-1.0, 1.0))
     } else {
         // So wide (or undefined) that the cells cancel.
         Some(0.0)
@@ -154,8 +142,20 @@ impl Texture<'_> {
 
     /// The texture averaged over the axis-aligned box of half-widths
     /// `half_width` (world units) around `p`: in closed form for the
-    /// checker (see the [module docs](self)), the value at the point for
-    /// the others. An axis narrower than 10⁻⁶ cells is point-sampled, so
+    /// checker, the value at the point for the others.
+    ///
+    /// A point-sampled checker aliases: far away, a pixel covers many
+    /// cells and one sample picks one of them. The checker is `even·(1 +
+    /// P)/2 + odd·(1 − P)/2` with `P = q(x/s)·q(y/s)·q(z/s)` and `q(t) =
+    /// (−1)^⌊t⌋`, a square wave; over a box the product averages axis by
+    /// axis, and the average of `q` over `[t − h, t + h]` is `(Q(t + h) −
+    /// Q(t − h)) / 2h` with `Q(t) = ∫₀ᵗ q`, a triangle wave (`Q = f` in even
+    /// cells, `1 − f` in odd ones, `f` the fraction of `t`), clamped to
+    /// `[−1, 1]` against rounding. The integrator supplies the box from the
+    /// camera's ray differentials ([`TextureFilter::Box`]).
+    ///
+    /// An axis narrower than 10⁻⁶ cells, or than 10⁻⁹ of the point's cell
+    /// coordinate (where `t ± h` would round), is point-sampled. An axis narrower than 10⁻⁶ cells is point-sampled, so
     /// a zero box gives [`Texture::value`] exactly; an infinite or NaN
     /// width averages the cells away, giving `(even + odd) / 2`.
     ///
