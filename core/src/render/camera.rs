@@ -139,7 +139,7 @@ impl Camera {
     /// The ray through `pixel` at `offset ∈ [0, 1)²` inside it, leaving the
     /// lens at the concentric-disk point of `lens ∈ [0, 1)²` (ignored for a
     /// pinhole, where the lens has radius 0). Unit direction, `t ∈ (0, ∞)`.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn ray(&self, pixel: UVec2, offset: Vec2, lens: Vec2) -> Ray {
         let target = self.corner

@@ -259,6 +259,7 @@ fn direct_light(
 /// hit (`first`) is already known, with the differential rays `diff` when
 /// textures are filtered. The sampler is positioned after the camera's
 /// four dimensions.
+#[inline(always)]
 fn trace_path<S: Sampler>(
     scene: &Scene<'_>,
     sampler: &mut S,
@@ -369,7 +370,7 @@ fn differentials(
 /// The camera sample `index` of `pixel`, with differential rays `spacing`
 /// pixels apart (none if 0); leaves the sampler after the camera's
 /// dimensions (pixel 0–1, lens 2–3).
-#[inline]
+#[inline(always)]
 fn camera_ray<S: Sampler>(
     camera: &Camera,
     filter: &PixelFilter,
@@ -508,15 +509,28 @@ impl<S: Sampler> Group<'_, '_, S> {
             );
             (rays[k], weights[k], diffs[k]) = (c.ray, c.weight, c.diff);
         }
-        let mut hits = HitPacket8::NONE;
-        scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
+        // A packet costs about as much as 8 rays, so when adaptive sampling
+        // leaves few lanes active they are traced one by one (the hits are
+        // the same either way).
+        let mut first = [None; 8];
+        if ids.len() > 2 {
+            let mut hits = HitPacket8::NONE;
+            scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
+            for (k, f) in first.iter_mut().enumerate().take(ids.len()) {
+                *f = hits.hit(k);
+            }
+        } else {
+            for (f, r) in first.iter_mut().zip(&rays[..ids.len()]) {
+                *f = scene.closest_hit(r);
+            }
+        }
         for (k, &l) in ids.iter().enumerate() {
             let v = trace_path(
                 scene,
                 &mut self.lanes[l],
                 settings,
                 rays[k],
-                hits.hit(k),
+                first[k],
                 diffs[k],
                 stats,
             ) * weights[k];
