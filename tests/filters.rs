@@ -1,10 +1,12 @@
 //! Pixel filters: each integrates to 1 (signed), and filter importance
 //! sampling is unbiased: the mean of `weight × I(offset)` converges to the
 //! filter's convolution with an analytic image (a step edge and a smooth
-//! bump), within 5 standard errors plus the reference quadrature's error.
+//! bump), within 5 standard errors plus the reference quadrature's error;
+//! so does the film's weighted mean `Σ w·L / Σ w` of the same samples.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use strata::filter::{FilterKind, PixelFilter};
+use strata::render::PixelSum;
 use strata::rng::{Pcg32, STREAM, next_f32};
 
 fn filters() -> Vec<PixelFilter> {
@@ -76,14 +78,34 @@ fn filter_importance_sampling_is_unbiased() {
             let mut rng = Pcg32::new(0x5eed + k as u64, STREAM);
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             let mut negative = 0usize;
+            // The film's estimate, Σ w·L / Σ w, from the same samples.
+            let mut film = PixelSum::ZERO;
+            let mut drawn = Vec::with_capacity(N);
             for _ in 0..N {
                 let u = Vec2::new(next_f32(&mut rng), next_f32(&mut rng));
                 let s = f.sample(u);
-                let v = s.weight as f64 * image(s.offset);
+                let l = image(s.offset);
+                let v = s.weight as f64 * l;
                 negative += usize::from(s.weight < 0.0);
                 sum += v;
                 sum2 += v * v;
+                film.add_weighted(Vec3::splat(l as f32), s.weight);
+                drawn.push((s.weight as f64, l));
             }
+            // The ratio's standard error by the delta method.
+            let ratio = film.mean().x as f64;
+            let w_mean = drawn.iter().map(|d| d.0).sum::<f64>() / N as f64;
+            let r2 = drawn
+                .iter()
+                .map(|&(w, l)| (w * (l - ratio)).powi(2))
+                .sum::<f64>()
+                / N as f64;
+            let ratio_se = (r2 / N as f64).sqrt() / w_mean;
+            assert!(
+                (ratio - reference).abs() < 5.0 * ratio_se + 2e-3,
+                "{:?} on {name}: film value {ratio} ± {ratio_se}, convolution {reference}",
+                f.kind()
+            );
             let mean = sum / N as f64;
             let se = ((sum2 / N as f64 - mean * mean) / N as f64).sqrt();
             assert!(

@@ -184,7 +184,8 @@ fn tiles_and_splits_do_not_change_a_bit() {
             let p = UVec2::new(k as u32 % 29, k as u32 / 29);
             let mut want = PixelSum::ZERO;
             for i in 0..spp {
-                want.add_sample(pixel_sample(scene, cam, &mut one, &SETTINGS, p, i));
+                let (l, w) = pixel_sample(scene, cam, &mut one, &SETTINGS, p, i);
+                want.add_weighted(l, w);
             }
             assert_eq!(*px, want, "pixel {p}");
         }
@@ -459,7 +460,9 @@ fn sphere_light_irradiance_is_right_with_and_without_mis() {
         let mut s = Independent::new(n, 5).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for i in 0..n {
-            let v = pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i).x as f64;
+            let v = pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i)
+                .0
+                .x as f64;
             sum += v;
             sum2 += v * v;
         }
@@ -507,7 +510,11 @@ fn lit(extra: &[(Sphere, u32)], at: Vec3) -> f32 {
     let cam = Camera::new(&desc, 1, 1).unwrap();
     let mut s = Independent::new(64, 1).unwrap();
     (0..4096)
-        .map(|i| pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i).x)
+        .map(|i| {
+            pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i)
+                .0
+                .x
+        })
         .sum()
 }
 
@@ -585,7 +592,9 @@ fn two_lights_add_up() {
         let mut s = Independent::new(n, 8).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for i in 0..n {
-            let v = pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i).x as f64;
+            let v = pixel_sample(&scene, &cam, &mut s, &settings, UVec2::ZERO, i)
+                .0
+                .x as f64;
             sum += v;
             sum2 += v * v;
         }
@@ -645,8 +654,9 @@ fn furnace_with_lights_and_mis() {
     for y in 0..16 {
         for x in 0..16 {
             for i in 0..256 {
-                let v = pixel_sample(&scene, &cam, &mut sampler, &settings, UVec2::new(x, y), i).x
-                    as f64;
+                let v = pixel_sample(&scene, &cam, &mut sampler, &settings, UVec2::new(x, y), i)
+                    .0
+                    .x as f64;
                 sum += v;
                 sum2 += v * v;
                 n += 1;

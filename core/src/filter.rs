@@ -14,7 +14,14 @@
 //!   tabulating `|f|`. The weight `f / pdf` is then close to ±1 and has the
 //!   sign of `f`: Mitchell's and Lanczos's negative lobes give negative
 //!   weights. Every cell has a positive density (a floor of 10⁻³ of the
-//!   largest), so the estimate is unbiased wherever `f ≠ 0`.
+//!   largest), so no part of the filter is left out.
+//!
+//! The film divides `Σ w·L` by `Σ w` rather than by the sample count
+//! ([`PixelSum::mean`](crate::render::PixelSum::mean), as pbrt-v4's film):
+//! slightly biased for a finite count, consistent, and far less noisy for
+//! filters with negative lobes, whose weights change sign between samples.
+//! Each `w·L / E[w]` term alone is an unbiased estimate, which is what
+//! the suite's convergence test checks.
 //!
 //! Every filter here is separable, `f(x, y) = f₁(x) f₁(y)`. The 1-D profile
 //! is normalised at construction by Simpson's rule on 2048 intervals.

@@ -36,4 +36,4 @@ pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 /// any pixel of any render (the value-stability lock in
 /// `tests/value_stability.rs` fails then, and says to raise it). Caches of
 /// rendered results (e.g. `strata converge`'s references) key on it.
-pub const OUTPUT_REVISION: u32 = 1;
+pub const OUTPUT_REVISION: u32 = 2;

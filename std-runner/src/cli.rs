@@ -1258,7 +1258,7 @@ pub fn verify(args: &VerifyArgs) -> Result<()> {
             None => ("FAIL", "  (not in the table)".to_string()),
         };
         say(&format!(
-            "{status}  {:<32} {:<12} {:016x}{why}",
+            "{status}  {:<32} {:<22} {:016x}{why}",
             o.scene, o.sampler, o.got
         ));
     })?;

@@ -19,9 +19,9 @@
 //! samples=A..B             sample indices covered, half-open
 //! checksum=<16 hex digits> FNV-1a 64 of the body
 //!                          (an empty line ends the header)
-//! body: one record per window pixel, row-major, 32 bytes each,
-//!       little-endian: sum r, g, b as i64 (units of 2^-24), samples u32,
-//!       dropped u32.
+//! body: one record per window pixel, row-major, 40 bytes each,
+//!       little-endian: weighted sums r, g, b and the filter-weight sum as
+//!       i64 (units of 2^-24), samples u32, dropped u32.
 //! ```
 //!
 //! An adaptive render (`adaptive=threshold=T base=B max=M`, with `spp` =
@@ -44,7 +44,7 @@ use crate::scene_file::{MAX_SPP, MAX_WIDTH};
 pub const MAGIC: &str = "strata-film 2";
 
 /// Bytes per pixel in a film's body.
-pub const BYTES_PER_PIXEL: usize = 32;
+pub const BYTES_PER_PIXEL: usize = 40;
 
 /// What defines a render's pixels: two parts merge only if every field
 /// agrees. Values are kept as the strings written to files, so comparing
@@ -273,7 +273,7 @@ impl Film {
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
         for p in &self.pixels {
-            for s in p.sum {
+            for s in p.sum.into_iter().chain([p.weight]) {
                 body.extend_from_slice(&s.to_le_bytes());
             }
             body.extend_from_slice(&p.samples.to_le_bytes());
@@ -399,8 +399,9 @@ impl Film {
                 let u = |o: usize| u32::from_le_bytes(r[o..o + 4].try_into().unwrap());
                 PixelSum {
                     sum: [i(0), i(1), i(2)],
-                    samples: u(24),
-                    dropped: u(28),
+                    weight: i(3),
+                    samples: u(32),
+                    dropped: u(36),
                 }
             })
             .collect::<Vec<PixelSum>>();
@@ -614,6 +615,7 @@ mod tests {
             pixels: (0..window.area())
                 .map(|i| PixelSum {
                     sum: [i as i64, -(i as i64), 1 << 40],
+                    weight: (n as i64 - 1) << 24,
                     samples: n - 1,
                     dropped: 1,
                 })

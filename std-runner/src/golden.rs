@@ -1,5 +1,7 @@
 //! The golden table: a hash of the exact film sums of a small render of
-//! every built-in scene and every example scene file, under every sampler.
+//! every built-in scene and every example scene file, under every sampler,
+//! and of a few renders with the reconstruction settings ([`VARIANTS`]:
+//! pixel filters, the prefiltered checker, adaptive sampling).
 //!
 //! Every build of Strata, on any x86-64 CPU (SSE2 to AVX-512), at any
 //! thread count, must reproduce these values: `strata verify` re-renders
@@ -73,6 +75,64 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
         "halton",
         0x0c15bb3fa4e73c04,
     ),
+    ("showcase", "sobol+mitchell", 0xe8141284b60b1c20),
+    ("showcase", "stratified+lanczos", 0x7d6da9eeda115b18),
+    ("week09", "halton+gaussian", 0xfecb6a1e6c0b1b66),
+    ("horizon", "stratified+texture-box", 0x590209255971fe33),
+    ("week09", "sobol+adaptive", 0xbc65cf2a907b80b3),
+    ("cover", "independent+adaptive", 0x47bba7a9e811a346),
+];
+
+/// A reconstruction setting rendered on top of the base settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Variant {
+    /// A pixel filter at its usual radius.
+    Filter(strata::filter::FilterKind),
+    /// The box-filtered checker (`--texture-filter box`).
+    TextureBox,
+    /// Adaptive sampling: base [`SPP`], at most 4 × [`SPP`], threshold 0.05.
+    Adaptive,
+}
+
+/// The variant rows: (scene, row key, sampler, setting). The row key names
+/// the sampler and the setting, and is the table's second column.
+pub const VARIANTS: [(&str, &str, SamplerKind, Variant); 6] = [
+    (
+        "showcase",
+        "sobol+mitchell",
+        SamplerKind::Sobol,
+        Variant::Filter(strata::filter::FilterKind::ALL[3]),
+    ),
+    (
+        "showcase",
+        "stratified+lanczos",
+        SamplerKind::Stratified,
+        Variant::Filter(strata::filter::FilterKind::ALL[4]),
+    ),
+    (
+        "week09",
+        "halton+gaussian",
+        SamplerKind::Halton,
+        Variant::Filter(strata::filter::FilterKind::ALL[2]),
+    ),
+    (
+        "horizon",
+        "stratified+texture-box",
+        SamplerKind::Stratified,
+        Variant::TextureBox,
+    ),
+    (
+        "week09",
+        "sobol+adaptive",
+        SamplerKind::Sobol,
+        Variant::Adaptive,
+    ),
+    (
+        "cover",
+        "independent+adaptive",
+        SamplerKind::Independent,
+        Variant::Adaptive,
+    ),
 ];
 
 /// The scenes of the table: the built-ins, then the example files.
@@ -127,8 +187,19 @@ pub fn film_hash(pixels: &[PixelSum]) -> u64 {
 /// BVH is on where the renderer would use it, so the hash covers that
 /// path too.
 pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Result<u64> {
+    render_variant_hash(scene, sampler, None, threads)
+}
+
+/// The hash of a golden render with a reconstruction setting (`None`: the
+/// base settings).
+pub fn render_variant_hash(
+    scene: &SceneData,
+    sampler: SamplerKind,
+    variant: Option<Variant>,
+    threads: usize,
+) -> Result<u64> {
     let (width, height) = SIZE;
-    let job = Job {
+    let mut job = Job {
         scene,
         width,
         height,
@@ -146,6 +217,22 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
         texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
     };
+    match variant {
+        None => {}
+        Some(Variant::Filter(kind)) => {
+            job.filter = strata::render::PixelFilter::new(kind, kind.default_radius())
+                .map_err(|e| anyhow!("filter {}: {e:?}", kind.name()))?;
+        }
+        Some(Variant::TextureBox) => job.texture_filter = strata::render::TextureFilter::Box,
+        Some(Variant::Adaptive) => {
+            job.adaptive = Some(
+                strata::render::Adaptive::new(SPP, 4 * SPP, 0.05)
+                    .map_err(|e| anyhow!("adaptive: {e:?}"))?,
+            );
+            job.spp = 4 * SPP;
+            job.samples = 0..4 * SPP;
+        }
+    }
     Ok(film_hash(&run(&job, &|_| {})?.pixels))
 }
 
@@ -154,7 +241,7 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
 pub struct Outcome {
     /// Scene name.
     pub scene: String,
-    /// Sampler name.
+    /// Sampler name, or for a variant row its key (`sobol+mitchell`).
     pub sampler: &'static str,
     /// The table's value, if the table has the entry.
     pub expected: Option<u64>,
@@ -170,8 +257,8 @@ impl Outcome {
     }
 }
 
-/// Re-renders every (scene, sampler) of the table, calling `each` as each
-/// finishes.
+/// Re-renders every (scene, sampler) of the table and every variant,
+/// calling `each` as each finishes.
 pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outcome>> {
     let mut out = Vec::new();
     for name in scene_names() {
@@ -191,6 +278,20 @@ pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outc
             each(&o);
             out.push(o);
         }
+    }
+    for (name, key, sampler, variant) in VARIANTS {
+        let got = render_variant_hash(&scene(name)?, sampler, Some(variant), threads)?;
+        let o = Outcome {
+            scene: name.to_string(),
+            sampler: key,
+            expected: GOLDEN
+                .iter()
+                .find(|(s, k, _)| *s == name && *k == key)
+                .map(|e| e.2),
+            got,
+        };
+        each(&o);
+        out.push(o);
     }
     Ok(out)
 }

@@ -759,10 +759,10 @@ fn split_renders_merge_into_the_one_shot_image() {
     merge("m.film");
     ok(d, &["merge", "m.film", "-o", "again.png"]);
     assert_eq!(bytes(&d.join("again.png")), bytes(&d.join("full.png")));
-    // The film is 32 bytes a pixel and a short header.
+    // The film is 40 bytes a pixel and a short header.
     let film = bytes(&d.join("m.film")).len();
     assert!(
-        (40 * 22 * 32..40 * 22 * 32 + 1024).contains(&film),
+        (40 * 22 * 40..40 * 22 * 40 + 1024).contains(&film),
         "{film}"
     );
     // A crop rendered straight to PNG is the window's pixels.

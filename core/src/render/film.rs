@@ -13,6 +13,12 @@
 //! far more of ordinary radiance, before its sum saturates (it saturates
 //! rather than wrapping). A sample with a NaN or infinite channel is
 //! counted in `dropped` and not summed; the mean is over the samples kept.
+//!
+//! Each sample also adds its pixel-filter weight `w = f/pdf` to `weight`,
+//! and the pixel's value is `Σ w·L / Σ w` (pbrt-v4's film): for the box
+//! and tent, whose weights are exactly 1, that is the plain mean; for
+//! filters with negative lobes it keeps the weights' noise out of flat
+//! regions. Both sums are exact, so merges stay exact.
 
 use glam::Vec3;
 
@@ -38,29 +44,34 @@ pub fn to_fixed(x: f32) -> i64 {
     libm::roundf(x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE) as i64
 }
 
-/// One pixel's exact accumulator: fixed-point RGB sums and sample counts.
-/// 32 bytes; `Copy`, `Send`, `Sync`.
+/// One pixel's exact accumulator: fixed-point sums of the weighted RGB
+/// and of the filter weights, and sample counts. 40 bytes; `Copy`, `Send`,
+/// `Sync`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct PixelSum {
-    /// Sum of the kept samples' RGB in units of `2⁻²⁴`.
+    /// Sum of the kept samples' weighted RGB `w·L` in units of `2⁻²⁴`.
     pub sum: [i64; 3],
+    /// Sum of the kept samples' filter weights `w` in units of `2⁻²⁴`.
+    pub weight: i64,
     /// Samples summed.
     pub samples: u32,
     /// Samples dropped for a NaN or infinite channel.
     pub dropped: u32,
 }
 
-const _: () = assert!(core::mem::size_of::<PixelSum>() == 32);
+const _: () = assert!(core::mem::size_of::<PixelSum>() == 40);
 
 impl PixelSum {
     /// No samples.
     pub const ZERO: PixelSum = PixelSum {
         sum: [0; 3],
+        weight: 0,
         samples: 0,
         dropped: 0,
     };
 
-    /// Adds one sample (or counts it as dropped if not finite).
+    /// Adds one sample of weight 1 (or counts it as dropped if not
+    /// finite).
     ///
     /// ```
     /// use glam::Vec3;
@@ -73,13 +84,35 @@ impl PixelSum {
     /// ```
     #[inline]
     pub fn add_sample(&mut self, v: Vec3) {
-        if !v.is_finite() {
+        self.add_weighted(v, 1.0);
+    }
+
+    /// Adds radiance `l` with filter weight `w`: `w·l` to the sum and `w`
+    /// to the weight (or counts the sample as dropped if `w·l` or `w` is
+    /// not finite).
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// // A flat region under a filter with a negative lobe: the weights
+    /// // vary, the value does not.
+    /// let mut a = PixelSum::ZERO;
+    /// for w in [1.25f32, -0.5, 0.75] {
+    ///     a.add_weighted(Vec3::splat(0.5), w);
+    /// }
+    /// assert!((a.mean() - Vec3::splat(0.5)).abs().max_element() < 1e-7);
+    /// ```
+    #[inline]
+    pub fn add_weighted(&mut self, l: Vec3, w: f32) {
+        let v = l * w;
+        if !(v.is_finite() && w.is_finite()) {
             self.dropped = self.dropped.saturating_add(1);
             return;
         }
         for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
             *s = s.saturating_add(to_fixed(x));
         }
+        self.weight = self.weight.saturating_add(to_fixed(w));
         self.samples = self.samples.saturating_add(1);
     }
 
@@ -103,6 +136,7 @@ impl PixelSum {
         for (s, o) in self.sum.iter_mut().zip(other.sum) {
             *s = s.saturating_add(o);
         }
+        self.weight = self.weight.saturating_add(other.weight);
         self.samples = self.samples.saturating_add(other.samples);
         self.dropped = self.dropped.saturating_add(other.dropped);
     }
@@ -123,14 +157,19 @@ impl PixelSum {
         self.samples.saturating_add(self.dropped)
     }
 
-    /// The mean of the kept samples as linear RGB (black with none).
+    /// The pixel's value as linear RGB: the weighted mean `Σ w·L / Σ w` of
+    /// the kept samples (black when the weights sum to 0, as with no
+    /// samples). With weights of 1 it is the plain mean. A filter with
+    /// negative lobes can make `Σ w` small or negative over few samples,
+    /// and the value large or of the other sign, as in pbrt-v4's film.
     #[inline]
     #[must_use]
     pub fn mean(&self) -> Vec3 {
-        if self.samples == 0 {
+        if self.weight == 0 {
             return Vec3::ZERO;
         }
-        let k = 1.0 / (FILM_SCALE as f64 * self.samples as f64);
+        // With weights of 1, `weight` is `2²⁴·samples` exactly.
+        let k = 1.0 / self.weight as f64;
         Vec3::new(
             (self.sum[0] as f64 * k) as f32,
             (self.sum[1] as f64 * k) as f32,

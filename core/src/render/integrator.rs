@@ -390,8 +390,9 @@ fn camera_ray<S: Sampler>(
     }
 }
 
-/// The radiance of sample `index` of `pixel`, one ray at a time: the
-/// reference that [`render_tile`] must equal bit for bit.
+/// The radiance of sample `index` of `pixel` and the sample's filter
+/// weight, one ray at a time: the reference that [`render_tile`] must
+/// equal bit for bit (it adds them with [`PixelSum::add_weighted`]).
 ///
 /// ```
 /// use glam::{UVec2, Vec3};
@@ -412,8 +413,9 @@ fn camera_ray<S: Sampler>(
 /// let settings = RenderSettings { max_depth: 50, direct_lighting: true, filter: PixelFilter::BOX,
 ///     texture_filter: TextureFilter::None };
 /// let mut sampler = Independent::new(1, 7).unwrap();
-/// let l = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
+/// let (l, w) = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
 /// assert!((l - Vec3::ONE).abs().max_element() < 1e-5); // every path sees 1
+/// assert_eq!(w, 1.0); // the box filter's weight
 /// ```
 #[inline]
 pub fn pixel_sample<S: Sampler>(
@@ -423,11 +425,11 @@ pub fn pixel_sample<S: Sampler>(
     settings: &RenderSettings,
     pixel: UVec2,
     index: u32,
-) -> Vec3 {
+) -> (Vec3, f32) {
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     let c = camera_ray(camera, &settings.filter, spacing, sampler, pixel, index);
     let first = scene.closest_hit(&c.ray);
-    trace_path(
+    let l = trace_path(
         scene,
         sampler,
         settings,
@@ -435,7 +437,8 @@ pub fn pixel_sample<S: Sampler>(
         first,
         c.diff,
         &mut TileStats::default(),
-    ) * c.weight
+    );
+    (l, c.weight)
 }
 
 /// The checks every tile render makes before tracing anything.
@@ -533,10 +536,10 @@ impl<S: Sampler> Group<'_, '_, S> {
                 first[k],
                 diffs[k],
                 stats,
-            ) * weights[k];
-            self.film[l].add_sample(v);
+            );
+            self.film[l].add_weighted(v, weights[k]);
             if let Some(e) = errors.as_deref_mut() {
-                e[l].add(v);
+                e[l].add(v * weights[k]);
             }
         }
     }
@@ -547,7 +550,7 @@ impl<S: Sampler> Group<'_, '_, S> {
 /// a film may collect several runs. Camera rays of up to 8 neighbouring
 /// pixels are traced as one packet. The result equals calling
 /// [`pixel_sample`] for every pixel and index and adding the values with
-/// [`PixelSum::add_sample`].
+/// [`PixelSum::add_weighted`].
 ///
 /// `sampler` is the prototype: its kind, spp and seed are used, its
 /// current position is not. Returns what was traced.
