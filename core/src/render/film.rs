@@ -158,18 +158,34 @@ impl PixelSum {
     }
 
     /// The pixel's value as linear RGB: the weighted mean `Σ w·L / Σ w` of
-    /// the kept samples (black when the weights sum to 0, as with no
-    /// samples). With weights of 1 it is the plain mean. A filter with
-    /// negative lobes can make `Σ w` small or negative over few samples,
-    /// and the value large or of the other sign, as in pbrt-v4's film.
+    /// the `n` kept samples (black with none). With weights of 1 it is the
+    /// plain mean.
+    ///
+    /// The weights average 1, so `Σ w` estimates `n`; a filter with large
+    /// negative lobes (Lanczos) can make it stray towards 0 or below over
+    /// few samples, and the ratio blow up. The denominator is therefore
+    /// held to `[n/2, 2n]`: the bound never binds for weights of 1, and
+    /// binds ever more rarely as samples grow, so the value still
+    /// converges to the filtered image.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let mut a = PixelSum::ZERO;
+    /// a.add_weighted(Vec3::ONE, 1.0);
+    /// a.add_weighted(Vec3::ZERO, -0.9); // Σ w = 0.1: held to n/2 = 1
+    /// assert_eq!(a.mean(), Vec3::ONE);
+    /// ```
     #[inline]
     #[must_use]
     pub fn mean(&self) -> Vec3 {
-        if self.weight == 0 {
+        if self.samples == 0 {
             return Vec3::ZERO;
         }
-        // With weights of 1, `weight` is `2²⁴·samples` exactly.
-        let k = 1.0 / self.weight as f64;
+        // With weights of 1, `weight` is `2²⁴·samples` exactly and the
+        // bound does not bind.
+        let n = FILM_SCALE as f64 * self.samples as f64;
+        let k = 1.0 / (self.weight as f64).clamp(0.5 * n, 2.0 * n);
         Vec3::new(
             (self.sum[0] as f64 * k) as f32,
             (self.sum[1] as f64 * k) as f32,
