@@ -18,9 +18,10 @@
 //!
 //! The film divides `Σ w·L` by `Σ w` rather than by the sample count
 //! ([`PixelSum::mean`](crate::render::PixelSum::mean), as pbrt-v4's film):
-//! slightly biased for a finite count, consistent, and far less noisy for
-//! filters with negative lobes, whose weights change sign between samples
-//! (with `Σ w` held to `[n/2, 2n]`, so few samples cannot blow it up).
+//! slightly biased for a finite count, consistent, exact in flat regions,
+//! and far less noisy for filters with negative lobes, whose weights change
+//! sign between samples (the plain mean where `|Σ w| < n/4`, so few samples
+//! cannot blow it up).
 //! Each `w·L / E[w]` term alone is an unbiased estimate, which is what
 //! the suite's convergence test checks.
 //!

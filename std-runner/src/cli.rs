@@ -60,7 +60,8 @@ pub enum Command {
     /// PART.film`) into one image, bit-identical to a one-shot render.
     Merge(MergeArgs),
     /// Re-render the golden table (small renders of every scene and
-    /// sampler) and check this build reproduces it bit for bit.
+    /// sampler, and of the reconstruction variants) and check this build
+    /// reproduces it bit for bit.
     Verify(VerifyArgs),
 }
 

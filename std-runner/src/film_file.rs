@@ -8,10 +8,10 @@
 //! image is bit-identical to the one-shot render; it refuses overlaps, gaps
 //! and parts of another render.
 //!
-//! The format (version 2) is a text header and a binary body:
+//! The format (version 3) is a text header and a binary body:
 //!
 //! ```text
-//! strata-film 2
+//! strata-film 3
 //! version=0.1.0+r1
 //! scene=cover
 //! ...                      the RenderKey fields, then:
@@ -41,7 +41,7 @@ use crate::render::Job;
 use crate::scene_file::{MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
-pub const MAGIC: &str = "strata-film 2";
+pub const MAGIC: &str = "strata-film 3";
 
 /// Bytes per pixel in a film's body.
 pub const BYTES_PER_PIXEL: usize = 40;
@@ -676,12 +676,14 @@ mod tests {
         assert!(e.contains("truncated"), "{e}");
         let e = refused(&good[..40]);
         assert!(e.contains("truncated"), "{e}");
-        let e = refused(b"strata-film 2\n\nxyz");
+        let e = refused(b"strata-film 3\n\nxyz");
         assert!(e.contains("no `version`"), "{e}");
         let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
         assert!(e.contains("repeats `seed`"), "{e}");
-        let e = refused(b"strata-film 1\n");
-        assert!(e.contains("another format version"), "{e}");
+        for old in [&b"strata-film 1\n"[..], b"strata-film 2\n"] {
+            let e = refused(old);
+            assert!(e.contains("another format version"), "{e}");
+        }
         let e = refused(b"");
         assert!(e.contains("not a Strata film"), "{e}");
     }

@@ -90,8 +90,8 @@ impl Adaptive {
     /// let mut flat = PixelError::ZERO;
     /// let mut noisy = PixelError::ZERO;
     /// for i in 0..4 {
-    ///     flat.add(Vec3::splat(0.5));
-    ///     noisy.add(Vec3::splat((i % 2) as f32));
+    ///     flat.add(Vec3::splat(0.5), 1.0);
+    ///     noisy.add(Vec3::splat((i % 2) as f32), 1.0);
     /// }
     /// assert!(!a.wants_more(4, &flat)); // no variance: stops at the base
     /// assert!(a.wants_more(4, &noisy));
@@ -113,15 +113,19 @@ impl Adaptive {
 
 /// The running sums behind a pixel's error estimate.
 ///
-/// Over the `n` finite samples a pixel has taken so far (filter weight
-/// included), with `yᵢ` the Rec. 709 luminance `0.2126 r + 0.7152 g +
-/// 0.0722 b` of sample `i`, computed in `f64`:
+/// Over the `n` finite samples a pixel has taken so far, with `wᵢ` the
+/// filter weight and `yᵢ` the Rec. 709 luminance `0.2126 r + 0.7152 g +
+/// 0.0722 b` of sample `i`'s radiance, computed in `f64`:
 ///
 /// ```text
-/// mean   m  = Σ yᵢ / n
-/// var    s² = max(0, (Σ yᵢ² − m Σ yᵢ) / (n − 1))      unbiased sample variance
-/// error  e  = sqrt(s² / n) / max(|m|, ERROR_FLOOR)    relative standard error
+/// value  R  = Σ wᵢyᵢ / Σ wᵢ                            the film's value
+/// error  e  = sqrt(n Σ (wᵢ(yᵢ − R))² / (n − 1)) / |Σ wᵢ| / max(|R|, ERROR_FLOOR)
 /// ```
+///
+/// With weights of 1 this is `sqrt(s² / n) / max(|m|, ERROR_FLOOR)`, the
+/// standard error of the mean over the mean, `s²` the unbiased sample
+/// variance. Where the film falls back to the plain mean of `w·y`
+/// (`|Σ w| < n/4`), the error is that mean's standard error.
 ///
 /// `e` is the standard error of the pixel's mean relative to the mean, so
 /// a threshold of 0.05 asks for a 1-σ error of 5 %. Pixels darker than
@@ -146,29 +150,40 @@ impl Adaptive {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelError {
     n: u32,
-    sum: f64,
-    sum_sq: f64,
+    /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y².
+    w: f64,
+    wy: f64,
+    w2: f64,
+    w2y: f64,
+    w2y2: f64,
 }
 
 impl PixelError {
     /// No samples.
     pub const ZERO: PixelError = PixelError {
         n: 0,
-        sum: 0.0,
-        sum_sq: 0.0,
+        w: 0.0,
+        wy: 0.0,
+        w2: 0.0,
+        w2y: 0.0,
+        w2y2: 0.0,
     };
 
-    /// Adds a sample's value; a sample with a NaN or infinite channel is
-    /// ignored, as the film drops it.
+    /// Adds a sample: radiance `l` with filter weight `w`. A sample the
+    /// film drops (`w·l` or `w` not finite) is ignored here too.
     #[inline]
-    pub fn add(&mut self, v: Vec3) {
-        if !v.is_finite() {
+    pub fn add(&mut self, l: Vec3, w: f32) {
+        if !((l * w).is_finite() && w.is_finite()) {
             return;
         }
-        let y = 0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64;
+        let y = 0.2126 * l.x as f64 + 0.7152 * l.y as f64 + 0.0722 * l.z as f64;
+        let w = w as f64;
         self.n = self.n.saturating_add(1);
-        self.sum += y;
-        self.sum_sq += y * y;
+        self.w += w;
+        self.wy += w * y;
+        self.w2 += w * w;
+        self.w2y += w * w * y;
+        self.w2y2 += w * w * y * y;
     }
 
     /// Finite samples added.
@@ -178,18 +193,30 @@ impl PixelError {
         self.n
     }
 
-    /// The relative standard error of the mean luminance; infinite with
-    /// fewer than two samples.
+    /// The relative standard error of the pixel's luminance as the film
+    /// computes it ([`PixelSum::mean`](super::PixelSum::mean)); infinite
+    /// with fewer than two samples.
+    ///
+    /// With the ratio `R = Σ w·y / Σ w`, its standard error is, by the
+    /// delta method, `√(n · Σ (wᵢ (yᵢ − R))² / (n − 1)) / |Σ w|`; with
+    /// weights of 1 that is the familiar `√(s² / n)`. Where the film falls
+    /// back to the plain mean of `w·y` (`|Σ w| < n/4`), so does this.
     ///
     /// ```
     /// use glam::Vec3;
     /// use strata::render::PixelError;
     /// let mut e = PixelError::ZERO;
     /// for v in [1.0f32, 3.0] {
-    ///     e.add(Vec3::splat(v));
+    ///     e.add(Vec3::splat(v), 1.0);
     /// }
     /// // mean 2, variance 2, standard error 1: 50 %.
     /// assert!((e.relative_error() - 0.5).abs() < 1e-12);
+    /// // A flat region under weights of both signs has no error.
+    /// let mut flat = PixelError::ZERO;
+    /// for w in [1.3f32, -0.4, 1.1, 0.9] {
+    ///     flat.add(Vec3::splat(0.5), w);
+    /// }
+    /// assert!(flat.relative_error() < 1e-12);
     /// ```
     #[inline]
     #[must_use]
@@ -198,8 +225,16 @@ impl PixelError {
             return f64::INFINITY;
         }
         let n = self.n as f64;
-        let mean = self.sum / n;
-        let var = ((self.sum_sq - mean * self.sum) / (n - 1.0)).max(0.0);
-        libm::sqrt(var / n) / libm::fabs(mean).max(ERROR_FLOOR)
+        let (value, se) = if libm::fabs(self.w) >= 0.25 * n {
+            let r = self.wy / self.w;
+            let s = (self.w2y2 - 2.0 * r * self.w2y + r * r * self.w2).max(0.0);
+            (r, libm::sqrt(n * s / (n - 1.0)) / libm::fabs(self.w))
+        } else {
+            // The plain mean of v = w·y: Σ v = wy, Σ v² = w2y2.
+            let m = self.wy / n;
+            let var = ((self.w2y2 - m * self.wy) / (n - 1.0)).max(0.0);
+            (m, libm::sqrt(var / n))
+        };
+        se / libm::fabs(value).max(ERROR_FLOOR)
     }
 }

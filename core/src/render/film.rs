@@ -141,6 +141,21 @@ impl PixelSum {
         self.dropped = self.dropped.saturating_add(other.dropped);
     }
 
+    /// What [`PixelSum::mean`] divides the sums by, in film units: `Σ w`,
+    /// or `2²⁴·n` where `|Σ w| < n/4` (and with no samples). With weights
+    /// of 1 it is `2²⁴·n` exactly.
+    #[inline]
+    #[must_use]
+    pub fn denominator(&self) -> f64 {
+        let n = FILM_SCALE as f64 * self.samples as f64;
+        let w = self.weight as f64;
+        if self.samples > 0 && libm::fabs(w) >= 0.25 * n {
+            w
+        } else {
+            n
+        }
+    }
+
     /// Samples taken, kept or dropped (saturating).
     ///
     /// ```
@@ -159,22 +174,22 @@ impl PixelSum {
 
     /// The pixel's value as linear RGB: the weighted mean `Σ w·L / Σ w` of
     /// the `n` kept samples (black with none). With weights of 1 it is the
-    /// plain mean.
+    /// plain mean; in a flat region it is exact whatever the weights.
     ///
-    /// The weights average 1, so `Σ w` estimates `n`; a filter with large
-    /// negative lobes (Lanczos) can make it stray towards 0 or below over
-    /// few samples, and the ratio blow up. The denominator is therefore
-    /// held to `[n/2, 2n]`: the bound never binds for weights of 1, and
-    /// binds ever more rarely as samples grow, so the value still
-    /// converges to the filtered image.
+    /// The weights average 1, so `Σ w` estimates `n`; over few samples a
+    /// filter with large negative lobes (Lanczos) can bring it near 0 and
+    /// the ratio would blow up. Where `|Σ w| < n/4` the value is therefore
+    /// the plain mean `Σ w·L / n` instead, itself an unbiased estimate
+    /// ([`PixelSum::denominator`]). Box, tent, Gaussian and
+    /// Blackman–Harris weights are positive and never fall back.
     ///
     /// ```
     /// use glam::Vec3;
     /// use strata::render::PixelSum;
     /// let mut a = PixelSum::ZERO;
     /// a.add_weighted(Vec3::ONE, 1.0);
-    /// a.add_weighted(Vec3::ZERO, -0.9); // Σ w = 0.1: held to n/2 = 1
-    /// assert_eq!(a.mean(), Vec3::ONE);
+    /// a.add_weighted(Vec3::ZERO, -0.9); // Σ w = 0.1 < 2/4: the plain mean
+    /// assert!((a.mean() - Vec3::splat(0.5)).abs().max_element() < 1e-6);
     /// ```
     #[inline]
     #[must_use]
@@ -182,10 +197,7 @@ impl PixelSum {
         if self.samples == 0 {
             return Vec3::ZERO;
         }
-        // With weights of 1, `weight` is `2²⁴·samples` exactly and the
-        // bound does not bind.
-        let n = FILM_SCALE as f64 * self.samples as f64;
-        let k = 1.0 / (self.weight as f64).clamp(0.5 * n, 2.0 * n);
+        let k = 1.0 / self.denominator();
         Vec3::new(
             (self.sum[0] as f64 * k) as f32,
             (self.sum[1] as f64 * k) as f32,

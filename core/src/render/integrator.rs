@@ -486,7 +486,8 @@ struct Group<'a, 's, S> {
 
 impl<S: Sampler> Group<'_, '_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
-    /// rays as one packet, and adds each value to its pixel and, when
+    /// rays as one packet (one by one for two lanes or fewer, where a
+    /// packet costs as much as eight), and adds each value to its pixel and, when
     /// sampling adaptively, to its error statistics.
     #[inline(always)]
     fn trace(
@@ -539,7 +540,7 @@ impl<S: Sampler> Group<'_, '_, S> {
             );
             self.film[l].add_weighted(v, weights[k]);
             if let Some(e) = errors.as_deref_mut() {
-                e[l].add(v * weights[k]);
+                e[l].add(v, weights[k]);
             }
         }
     }
@@ -548,7 +549,8 @@ impl<S: Sampler> Group<'_, '_, S> {
 /// Renders samples `samples` of every pixel of `tile` and adds them to
 /// `film` (row-major over the tile, one [`PixelSum`] per pixel), in place:
 /// a film may collect several runs. Camera rays of up to 8 neighbouring
-/// pixels are traced as one packet. The result equals calling
+/// pixels are traced as one packet (one by one for two or fewer, which
+/// gives the same hits). The result equals calling
 /// [`pixel_sample`] for every pixel and index and adding the values with
 /// [`PixelSum::add_weighted`].
 ///
