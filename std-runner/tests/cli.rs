@@ -977,19 +977,23 @@ fn verify_reproduces_the_golden_table() {
     assert!(listing(dir.path()).is_empty(), "verify writes no file");
 }
 
+/// Renders `horizon` 48 pixels wide at `spp` with `extra` flags to `name`
+/// in `dir`; returns the file's bytes.
+fn horizon(dir: &Path, spp: &str, name: &str, extra: &[&str]) -> Vec<u8> {
+    let mut args = vec![
+        "render", "--scene", "horizon", "--width", "48", "--spp", spp,
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", name]);
+    ok(dir, &args);
+    bytes(&dir.join(name))
+}
+
 #[test]
 fn filters_are_chosen_on_the_command_line_and_named_in_metadata() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let render = |name: &str, extra: &[&str]| {
-        let mut args = vec![
-            "render", "--scene", "horizon", "--width", "48", "--spp", "2",
-        ];
-        args.extend_from_slice(extra);
-        args.extend_from_slice(&["-o", name]);
-        ok(d, &args);
-        bytes(&d.join(name))
-    };
+    let render = |name: &str, extra: &[&str]| horizon(d, "2", name, extra);
     let boxed = render("box.png", &[]);
     let mitchell = render("m.png", &["--filter", "mitchell"]);
     assert_ne!(boxed, mitchell);
@@ -1220,15 +1224,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
 fn texture_filter_is_chosen_on_the_command_line_and_named_in_metadata() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let render = |name: &str, extra: &[&str]| {
-        let mut args = vec![
-            "render", "--scene", "horizon", "--width", "48", "--spp", "1",
-        ];
-        args.extend_from_slice(extra);
-        args.extend_from_slice(&["-o", name]);
-        ok(d, &args);
-        bytes(&d.join(name))
-    };
+    let render = |name: &str, extra: &[&str]| horizon(d, "1", name, extra);
     let point = render("p.png", &[]);
     let boxed = render("b.png", &["--texture-filter", "box"]);
     assert_ne!(point, boxed);

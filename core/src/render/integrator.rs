@@ -568,11 +568,31 @@ pub fn render_tile<S: Sampler + Clone>(
 ) -> Result<TileStats, RenderError> {
     check_tile(camera, settings, tile, film.len())?;
     let mut stats = TileStats::default();
+    const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    for_each_group(scene, camera, sampler, settings, tile, film, |group, n| {
+        for index in samples.clone() {
+            group.trace(&ALL[..n], index, None, &mut stats);
+        }
+    });
+    Ok(stats)
+}
+
+/// Calls `f` with each group of up to 8 neighbouring pixels of `tile`,
+/// row by row, and its lane count; each group's film entries are its
+/// slice of `film` (row-major over the tile).
+#[inline(always)]
+fn for_each_group<S: Sampler + Clone>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+    film: &mut [PixelSum],
+    mut f: impl FnMut(&mut Group<'_, '_, S>, usize),
+) {
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
-    const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
     for row in 0..tile.height {
-        let y = tile.y0 + row;
         let mut col = 0;
         while col < tile.width {
             let n = (tile.width - col).min(8) as usize;
@@ -581,18 +601,15 @@ pub fn render_tile<S: Sampler + Clone>(
                 scene,
                 camera,
                 settings,
-                first: UVec2::new(tile.x0 + col, y),
+                first: UVec2::new(tile.x0 + col, tile.y0 + row),
                 spacing,
                 lanes: &mut lanes,
                 film: &mut film[at..at + n],
             };
-            for index in samples.clone() {
-                group.trace(&ALL[..n], index, None, &mut stats);
-            }
+            f(&mut group, n);
             col += n as u32;
         }
     }
-    Ok(stats)
 }
 
 /// Renders every pixel of `tile` adaptively and adds the samples to
@@ -660,48 +677,30 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
         });
     }
     let mut stats = TileStats::default();
-    let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
-    let spacing = differential_spacing(settings, sampler.samples_per_pixel());
-    for row in 0..tile.height {
-        let y = tile.y0 + row;
-        let mut col = 0;
-        while col < tile.width {
-            let n = (tile.width - col).min(8) as usize;
-            let at = (row * tile.width + col) as usize;
-            let mut errors = [PixelError::ZERO; 8];
-            let mut group = Group {
-                scene,
-                camera,
-                settings,
-                first: UVec2::new(tile.x0 + col, y),
-                spacing,
-                lanes: &mut lanes,
-                film: &mut film[at..at + n],
-            };
-            // Every active lane has taken the same samples, so one batch
-            // serves them all and their camera rays stay one packet.
-            let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
-            let mut active = n;
-            let mut taken = 0;
-            loop {
-                for index in adaptive.next_batch(taken) {
-                    group.trace(&ids[..active], index, Some(&mut errors), &mut stats);
-                }
-                taken = adaptive.next_batch(taken).end;
-                let mut kept = 0;
-                for k in 0..active {
-                    if adaptive.wants_more(taken, &errors[ids[k]]) {
-                        ids[kept] = ids[k];
-                        kept += 1;
-                    }
-                }
-                active = kept;
-                if active == 0 {
-                    break;
+    for_each_group(scene, camera, sampler, settings, tile, film, |group, n| {
+        let mut errors = [PixelError::ZERO; 8];
+        // Every active lane has taken the same samples, so one batch
+        // serves them all and their camera rays stay one packet.
+        let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
+        let mut active = n;
+        let mut taken = 0;
+        loop {
+            for index in adaptive.next_batch(taken) {
+                group.trace(&ids[..active], index, Some(&mut errors), &mut stats);
+            }
+            taken = adaptive.next_batch(taken).end;
+            let mut kept = 0;
+            for k in 0..active {
+                if adaptive.wants_more(taken, &errors[ids[k]]) {
+                    ids[kept] = ids[k];
+                    kept += 1;
                 }
             }
-            col += n as u32;
+            active = kept;
+            if active == 0 {
+                break;
+            }
         }
-    }
+    });
     Ok(stats)
 }
