@@ -1,5 +1,5 @@
 //! The built-in layouts are exactly the reference sphere lists: the copies
-//! in `tests/data/` (and, where the project's shared folder sits beside the
+//! in `core/tests/data/` (and, where the project's shared folder sits beside the
 //! checkout, the originals), compared bit for bit.
 
 use std::path::Path;
@@ -35,18 +35,18 @@ fn bits(spheres: &[Sphere]) -> Vec<[u32; 4]> {
 
 fn check(name: &str, built: &[Sphere]) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let copy = std::fs::read_to_string(root.join("tests/data").join(name)).expect("test data");
+    let copy = std::fs::read_to_string(root.join("core/tests/data").join(name)).expect("test data");
     assert_eq!(
         bits(built),
         parse(&copy),
-        "{name} differs from tests/data/{name}"
+        "{name} differs from core/tests/data/{name}"
     );
     let shared = root.join("../shared/scenes").join(name);
     if let Ok(original) = std::fs::read_to_string(&shared) {
         assert_eq!(
             copy,
             original,
-            "tests/data/{name} is stale against {}",
+            "core/tests/data/{name} is stale against {}",
             shared.display()
         );
     }

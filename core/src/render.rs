@@ -33,7 +33,8 @@ pub use scene::{BVH_THRESHOLD, Background, Scene, SceneError, collect_lights};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 
 /// The revision of what renders compute: raised whenever a change alters
-/// any pixel of any render (the value-stability lock in
-/// `tests/value_stability.rs` fails then, and says to raise it). Caches of
-/// rendered results (e.g. `strata converge`'s references) key on it.
+/// an existing output (a pixel, a scene hash, a file's bytes; the output
+/// locks in `std-runner/tests/output_locks.rs` fail then, and say to
+/// raise it), never for new outputs. Film files and caches of rendered
+/// results (e.g. `strata converge`'s references) key on it.
 pub const OUTPUT_REVISION: u32 = 2;

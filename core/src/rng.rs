@@ -20,7 +20,7 @@
 //!
 //! **This scheme is a stability promise.** Changing any constant or step
 //! changes every render, and is a breaking change recorded in the
-//! CHANGELOG; `tests/value_stability.rs` locks it.
+//! CHANGELOG; `core/tests/locks.rs` locks it.
 //!
 //! # Floats
 //!

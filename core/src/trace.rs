@@ -471,10 +471,12 @@ pub fn any_hit(ray: &Ray, spheres: &[Sphere]) -> bool {
 }
 
 /// The SIMD instruction set this build of `strata` runs its 8-wide kernels
-/// on, fixed at compile time by the target features.
+/// on, fixed at compile time by the target features. More variants may come
+/// with new targets, so matches need a wildcard arm.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[non_exhaustive]
 pub enum SimdLevel {
-    /// No x86 SIMD: `wide` falls back to arrays of scalars.
+    /// No SIMD this build knows of: `wide` falls back to arrays of scalars.
     Scalar,
     /// SSE2 (every x86-64): an `f32x8` is two 4-lane halves.
     Sse2,
@@ -487,10 +489,15 @@ pub enum SimdLevel {
     /// AVX-512 (F) is available to the build; `f32x8` kernels still use
     /// 256-bit registers.
     Avx512,
+    /// NEON (every aarch64): an `f32x8` is two 4-lane halves.
+    Neon,
+    /// WebAssembly `simd128`: an `f32x8` is two 4-lane halves.
+    Simd128,
 }
 
 impl SimdLevel {
-    /// A short name: `scalar`, `sse2`, `sse4.1`, `avx`, `avx2`, `avx512`.
+    /// A short name: `scalar`, `sse2`, `sse4.1`, `avx`, `avx2`, `avx512`,
+    /// `neon`, `simd128`.
     #[inline]
     #[must_use]
     pub const fn name(self) -> &'static str {
@@ -501,6 +508,8 @@ impl SimdLevel {
             SimdLevel::Avx => "avx",
             SimdLevel::Avx2 => "avx2",
             SimdLevel::Avx512 => "avx512",
+            SimdLevel::Neon => "neon",
+            SimdLevel::Simd128 => "simd128",
         }
     }
 }
@@ -509,8 +518,12 @@ impl SimdLevel {
 /// changes speed only: every level returns the same bits.
 ///
 /// ```
-/// let level = strata::trace::simd_level();
+/// use strata::trace::{SimdLevel, simd_level};
+/// let level = simd_level();
 /// assert!(!level.name().is_empty());
+/// if cfg!(target_arch = "aarch64") {
+///     assert_eq!(level, SimdLevel::Neon);
+/// }
 /// ```
 #[inline]
 #[must_use]
@@ -525,6 +538,10 @@ pub const fn simd_level() -> SimdLevel {
         SimdLevel::Sse41
     } else if cfg!(target_feature = "sse2") {
         SimdLevel::Sse2
+    } else if cfg!(all(target_arch = "aarch64", target_feature = "neon")) {
+        SimdLevel::Neon
+    } else if cfg!(target_feature = "simd128") {
+        SimdLevel::Simd128
     } else {
         SimdLevel::Scalar
     }
@@ -642,7 +659,8 @@ mod tests {
             cfg!(target_feature = "avx2")
         );
         if cfg!(target_arch = "x86_64") {
-            assert!(level >= SimdLevel::Sse2);
+            assert!(level >= SimdLevel::Sse2 && level <= SimdLevel::Avx512);
         }
+        assert_eq!(level == SimdLevel::Neon, cfg!(target_arch = "aarch64"));
     }
 }

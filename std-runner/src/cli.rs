@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use strata::render::Tile;
 
 use crate::film_file::{Film, RenderKey, window_text};
-use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic, write_image};
+use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic};
 use crate::render::{Job, SamplerKind, run};
 use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
 use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
@@ -593,15 +593,9 @@ pub struct BenchArgs {
 /// Runs `strata bench`.
 pub fn bench(args: &BenchArgs) -> Result<()> {
     if let Some(path) = &args.json {
-        if path
-            .extension()
-            .is_none_or(|e| !e.eq_ignore_ascii_case("json"))
-        {
-            bail!("--json `{}` must end in .json", path.display());
-        }
-        // Probe the directory with a file of our own: an existing report is
-        // left alone until the new one replaces it.
-        check_writable_dir(path)?;
+        // Probes the directory with a file of our own: an existing report
+        // is left alone until the new one replaces it.
+        check_json(path, "--json")?;
     }
     let options = crate::bench::Options {
         repetitions: args.repetitions as usize,
@@ -1102,16 +1096,14 @@ fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
             film.key.spp()
         ),
     ));
-    write_atomic(path, |tmp| {
-        crate::image_io::write_png_rgb8(
-            tmp,
-            film.window.width,
-            film.window.height,
-            &bytes,
-            Transfer::Srgb,
-            &meta,
-        )
-    })
+    crate::image_io::write_png_rgb8(
+        path,
+        film.window.width,
+        film.window.height,
+        &bytes,
+        Transfer::Srgb,
+        &meta,
+    )
     .with_context(|| format!("writing `{}`", path.display()))
 }
 
@@ -1150,21 +1142,32 @@ fn check_json(path: &Path, flag: &str) -> Result<()> {
 
 /// Writes `film` as a .film, or its window as a PNG/EXR image.
 fn write_film_or_image(path: &Path, film: &Film, transfer: Transfer) -> Result<()> {
+    let bytes = film_output_bytes(path, film, transfer)?;
+    write_atomic(path, |tmp| crate::image_io::write_file(tmp, &bytes))
+        .with_context(|| format!("writing `{}`", path.display()))
+}
+
+/// The bytes `strata render -o path` writes for `film`: the .film file, or
+/// its window as a PNG or EXR image with the film's metadata.
+pub fn film_output_bytes(path: &Path, film: &Film, transfer: Transfer) -> Result<Vec<u8>> {
     if is_film(path) {
-        let bytes = film.to_bytes();
-        return write_atomic(path, |tmp| Ok(std::fs::write(tmp, &bytes)?))
-            .with_context(|| format!("writing `{}`", path.display()));
+        return Ok(film.to_bytes());
     }
+    let format = crate::image_io::ImageFormat::of(path).ok_or_else(|| {
+        anyhow::anyhow!(
+            "output `{}` must end in .png, .exr or .film",
+            path.display()
+        )
+    })?;
     let pixels: Vec<glam::Vec3> = film.pixels.iter().map(|p| p.mean()).collect();
-    write_image(
-        path,
+    crate::image_io::image_bytes(
+        format,
         film.window.width,
         film.window.height,
         &pixels,
         transfer,
         &film.metadata(transfer_name(transfer)),
     )
-    .with_context(|| format!("writing `{}`", path.display()))
 }
 
 /// `strata merge` flags.
@@ -1240,7 +1243,8 @@ pub struct VerifyArgs {
     pub threads: u16,
 }
 
-/// Runs `strata verify`: one line per entry, and an error if any differs.
+/// Runs `strata verify`: one line per row of the golden table (renders,
+/// scene hashes, file bytes), and an error if any differs.
 pub fn verify(args: &VerifyArgs) -> Result<()> {
     use crate::golden;
     say(&format!(
@@ -1260,19 +1264,19 @@ pub fn verify(args: &VerifyArgs) -> Result<()> {
         };
         say(&format!(
             "{status}  {:<32} {:<22} {:016x}{why}",
-            o.scene, o.sampler, o.got
+            o.scene, o.key, o.got
         ));
     })?;
     let failed = outcomes.iter().filter(|o| !o.pass()).count();
     if failed > 0 {
         bail!(
-            "{failed} of {} golden renders differ: this build or machine does not reproduce \
-             Strata {}'s pixels",
+            "{failed} of {} golden rows differ: this build or machine does not reproduce \
+             Strata {}'s output",
             outcomes.len(),
             crate::film_file::version()
         );
     }
-    say(&format!("all {} golden renders match", outcomes.len()));
+    say(&format!("all {} golden rows match", outcomes.len()));
     Ok(())
 }
 
@@ -1295,5 +1299,23 @@ pub fn main_with(cli: Cli) -> Result<()> {
             Some(Command::Render(args)) => render(&args),
             _ => unreachable!("`render` parses as the render subcommand"),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_outputs_need_a_json_name_in_any_case() {
+        let dir = std::env::temp_dir();
+        for ok in ["r.json", "R.JSON", "r.Json"] {
+            check_json(&dir.join(ok), "--json").unwrap();
+            assert!(!dir.join(ok).exists(), "the probe leaves nothing");
+        }
+        for bad in ["r.txt", "r", "json"] {
+            let e = check_json(&dir.join(bad), "--stats").unwrap_err();
+            assert!(e.to_string().contains("--stats"), "{e}");
+        }
     }
 }

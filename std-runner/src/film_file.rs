@@ -286,7 +286,7 @@ impl Film {
         }
         writeln!(head, "window={}", window_text(self.window)).unwrap();
         writeln!(head, "samples={}..{}", self.samples.start, self.samples.end).unwrap();
-        writeln!(head, "checksum={:016x}", fnv(&body)).unwrap();
+        writeln!(head, "checksum={:016x}", crate::hash::fnv1a(&body)).unwrap();
         writeln!(head).unwrap();
         let mut out = head.into_bytes();
         out.extend_from_slice(&body);
@@ -389,7 +389,7 @@ impl Film {
             );
         }
         let sum = u64::from_str_radix(get("checksum")?, 16).context("bad `checksum`")?;
-        if sum != fnv(body) {
+        if sum != crate::hash::fnv1a(body) {
             bail!("corrupt: the pixel checksum does not match");
         }
         let pixels = body
@@ -486,13 +486,6 @@ pub fn parse_samples(s: &str) -> Option<Range<u32>> {
     let (a, b) = s.split_once("..")?;
     let (a, b): (u32, u32) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
     (a < b).then_some(a..b)
-}
-
-/// FNV-1a, 64-bit.
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
 }
 
 fn overlap(a: &Range<u32>, b: &Range<u32>) -> Option<Range<u32>> {

@@ -1,17 +1,33 @@
-//! The golden table: a hash of the exact film sums of a small render of
-//! every built-in scene and every example scene file, under every sampler,
-//! and of a few renders with the reconstruction settings ([`VARIANTS`]:
-//! pixel filters, the prefiltered checker, adaptive sampling).
+//! The golden table: every output Strata writes, locked by hash.
 //!
-//! Every build of Strata, on any x86-64 CPU (SSE2 to AVX-512), at any
-//! thread count, must reproduce these values: `strata verify` re-renders
-//! the table, and the value-stability test checks it under a portable and
-//! a native build. A change that alters any pixel must update the table
-//! and add a line under "Output changes" in CHANGELOG.md.
+//! - Renders: the exact film sums of a small render of every built-in
+//!   scene and every example scene file, under every sampler, and of a few
+//!   renders with the reconstruction settings ([`VARIANTS`]: pixel
+//!   filters, the prefiltered checker, adaptive sampling).
+//! - Scenes: the content hash of every scene of the table (`scene` rows),
+//!   which film keys, image metadata and study caches carry.
+//! - Files: the exact bytes of the PNG, EXR and `.film` file of one
+//!   golden render of each built-in scene (`file.png`, `file.exr`,
+//!   `file.film` rows), so encoders and headers are locked too.
+//!
+//! Every build of Strata, on any CPU (x86-64 from SSE2 to AVX-512,
+//! aarch64), at any thread count, must reproduce these values: `strata
+//! verify` checks the table, and CI checks it on a native, a portable
+//! SSE2 and an aarch64 build.
+//!
+//! Versioning: a change that alters an existing row is an output change:
+//! raise `strata::render::OUTPUT_REVISION`, update the rows and add a line
+//! under "Output changes" in CHANGELOG.md. New rows (a new sampler, scene
+//! or file) are appended and do not change the revision, so users'
+//! partial films keep merging; the pin test in
+//! `std-runner/tests/output_locks.rs` enforces both.
 
 use anyhow::{Result, anyhow};
 use strata::render::PixelSum;
 
+use crate::film_file::{Film, RenderKey};
+use crate::hash::Fnv;
+use crate::image_io::Transfer;
 use crate::render::{Job, SamplerKind, run, whole};
 use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
 
@@ -31,8 +47,10 @@ pub const EXAMPLE_SCENES: [(&str, &str); 1] = [(
     include_str!("../../examples/scenes/materials.toml"),
 )];
 
-/// (scene, sampler, FNV-1a 64 of the film). Keyed by name, so a new
-/// scene or sampler adds rows without moving any.
+/// (scene, key, FNV-1a 64). The key is a sampler (the film sums of that
+/// render), a variant key (`sobol+mitchell`), `scene` (the scene's content
+/// hash) or `file.EXT` (the bytes of [`FILE_FORMATS`]' files). Keyed by
+/// name; new rows are appended.
 pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("week09", "independent", 0xa3b1b2bcd3e21f77),
     ("week09", "grid", 0xce8d68df935a9439),
@@ -81,7 +99,35 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("horizon", "stratified+texture-box", 0x590209255971fe33),
     ("week09", "sobol+adaptive", 0xbc65cf2a907b80b3),
     ("cover", "independent+adaptive", 0x47bba7a9e811a346),
+    ("week09", "scene", 0x7ee690f76348c390),
+    ("cover", "scene", 0xdec2984dedc5ee3f),
+    ("showcase", "scene", 0x0fd2d63ec0dc14d1),
+    ("horizon", "scene", 0x70895a9d06f68ddd),
+    (
+        "examples/scenes/materials.toml",
+        "scene",
+        0x5d436e3c9fec95bc,
+    ),
+    ("week09", "file.png", 0x406f335cf46fd7b2),
+    ("week09", "file.exr", 0x877ad5ee416c03b0),
+    ("week09", "file.film", 0xa1fe73b4720de9a3),
+    ("cover", "file.png", 0x8806751eb32b9bab),
+    ("cover", "file.exr", 0xff643f5933b46657),
+    ("cover", "file.film", 0x5511fe0ef040e4f6),
+    ("showcase", "file.png", 0x15ce7a34c6fdee3b),
+    ("showcase", "file.exr", 0x6e9b735a42a7ed24),
+    ("showcase", "file.film", 0x112e2caf85535b86),
+    ("horizon", "file.png", 0x1a14d40269a6507c),
+    ("horizon", "file.exr", 0xabd15d6dba3defce),
+    ("horizon", "file.film", 0xa9b786969a79e29c),
 ];
+
+/// The files locked byte for byte for each built-in scene: the golden
+/// render with [`FILE_SAMPLER`], written as `strata render -o x.EXT` would.
+pub const FILE_FORMATS: [&str; 3] = ["png", "exr", "film"];
+
+/// The sampler of the file rows.
+pub const FILE_SAMPLER: SamplerKind = SamplerKind::Independent;
 
 /// A reconstruction setting rendered on top of the base settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,28 +213,21 @@ pub fn scene(name: &str) -> Result<SceneData> {
 /// were kept).
 #[must_use]
 pub fn film_hash(pixels: &[PixelSum]) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut h = Fnv::default();
     for p in pixels {
         let [r, g, b] = p.sum;
-        let words = [
-            r as u32,
-            (r >> 32) as u32,
-            g as u32,
-            (g >> 32) as u32,
-            b as u32,
-            (b >> 32) as u32,
-            p.samples,
-            p.dropped,
-        ];
-        let weight = (p.weight != (p.samples as i64) << 24)
-            .then_some([p.weight as u32, (p.weight >> 32) as u32]);
-        for w in words.into_iter().chain(weight.into_iter().flatten()) {
-            for byte in w.to_le_bytes() {
-                h = (h ^ byte as u64).wrapping_mul(0x0100_0000_01b3);
-            }
+        for s in [r, g, b] {
+            h.u32(s as u32);
+            h.u32((s >> 32) as u32);
+        }
+        h.u32(p.samples);
+        h.u32(p.dropped);
+        if p.weight != (p.samples as i64) << 24 {
+            h.u32(p.weight as u32);
+            h.u32((p.weight >> 32) as u32);
         }
     }
-    h
+    h.finish()
 }
 
 /// Renders the golden film of `scene` with `sampler` and hashes it. The
@@ -198,16 +237,12 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
     render_variant_hash(scene, sampler, None, threads)
 }
 
-/// The hash of a golden render with a reconstruction setting (`None`: the
-/// base settings).
-pub fn render_variant_hash(
-    scene: &SceneData,
-    sampler: SamplerKind,
-    variant: Option<Variant>,
-    threads: usize,
-) -> Result<u64> {
+/// The golden job for `scene` and `sampler`: [`SIZE`], [`SPP`], [`SEED`],
+/// [`MAX_DEPTH`], the box filter, on `threads` threads in tiles of 8.
+#[must_use]
+pub fn job(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Job<'_> {
     let (width, height) = SIZE;
-    let mut job = Job {
+    Job {
         scene,
         width,
         height,
@@ -224,7 +259,18 @@ pub fn render_variant_hash(
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
         adaptive: None,
-    };
+    }
+}
+
+/// The hash of a golden render with a reconstruction setting (`None`: the
+/// base settings).
+pub fn render_variant_hash(
+    scene: &SceneData,
+    sampler: SamplerKind,
+    variant: Option<Variant>,
+    threads: usize,
+) -> Result<u64> {
+    let mut job = job(scene, sampler, threads);
     match variant {
         None => {}
         Some(Variant::Filter(kind)) => {
@@ -244,13 +290,34 @@ pub fn render_variant_hash(
     Ok(film_hash(&run(&job, &|_| {})?.pixels))
 }
 
+/// The FNV-1a 64 of the bytes of each of [`FILE_FORMATS`]' files of the
+/// golden render of `scene` with [`FILE_SAMPLER`] (sRGB PNG), encoded in
+/// memory exactly as `strata render -o golden.EXT` writes them.
+pub fn file_hashes(scene: &SceneData, threads: usize) -> Result<[u64; 3]> {
+    let job = job(scene, FILE_SAMPLER, threads);
+    let film = Film {
+        key: RenderKey::of(&job),
+        window: job.window,
+        samples: job.samples.clone(),
+        pixels: run(&job, &|_| {})?.pixels,
+    };
+    let mut out = [0; 3];
+    for (h, ext) in out.iter_mut().zip(FILE_FORMATS) {
+        let name = std::path::PathBuf::from(format!("golden.{ext}"));
+        let bytes = crate::cli::film_output_bytes(&name, &film, Transfer::Srgb)?;
+        *h = crate::hash::fnv1a(&bytes);
+    }
+    Ok(out)
+}
+
 /// One entry of the table, re-rendered.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Outcome {
     /// Scene name.
     pub scene: String,
-    /// Sampler name, or for a variant row its key (`sobol+mitchell`).
-    pub sampler: &'static str,
+    /// The row's key: a sampler name, a variant key (`sobol+mitchell`),
+    /// `scene` or `file.EXT`.
+    pub key: String,
     /// The table's value, if the table has the entry.
     pub expected: Option<u64>,
     /// What this build renders.
@@ -266,42 +333,51 @@ impl Outcome {
 }
 
 /// Re-renders every (scene, sampler) of the table and every variant,
-/// calling `each` as each finishes.
+/// hashes every scene, and encodes every file row, calling `each` as each
+/// finishes. The outcomes come in table order.
 pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outcome>> {
     let mut out = Vec::new();
-    for name in scene_names() {
-        let data = scene(name)?;
-        for sampler in SamplerKind::ALL {
-            let got = render_hash(&data, sampler, threads)?;
-            let expected = GOLDEN
-                .iter()
-                .find(|(s, k, _)| *s == name && *k == sampler.name())
-                .map(|e| e.2);
-            let o = Outcome {
-                scene: name.to_string(),
-                sampler: sampler.name(),
-                expected,
-                got,
-            };
-            each(&o);
-            out.push(o);
-        }
-    }
-    for (name, key, sampler, variant) in VARIANTS {
-        let got = render_variant_hash(&scene(name)?, sampler, Some(variant), threads)?;
+    let mut record = |scene: &str, key: &str, got: u64| {
         let o = Outcome {
-            scene: name.to_string(),
-            sampler: key,
-            expected: GOLDEN
-                .iter()
-                .find(|(s, k, _)| *s == name && *k == key)
-                .map(|e| e.2),
+            scene: scene.to_string(),
+            key: key.to_string(),
+            expected: expected(scene, key),
             got,
         };
         each(&o);
         out.push(o);
+    };
+    let scenes = scene_names()
+        .into_iter()
+        .map(|name| Ok((name, scene(name)?)))
+        .collect::<Result<Vec<_>>>()?;
+    for (name, data) in &scenes {
+        for sampler in SamplerKind::ALL {
+            record(name, sampler.name(), render_hash(data, sampler, threads)?);
+        }
+    }
+    for (name, key, sampler, variant) in VARIANTS {
+        let got = render_variant_hash(&scene(name)?, sampler, Some(variant), threads)?;
+        record(name, key, got);
+    }
+    for (name, data) in &scenes {
+        record(name, "scene", data.content_hash());
+    }
+    for (name, data) in scenes.iter().filter(|(n, _)| BUILT_IN.contains(n)) {
+        for (ext, got) in FILE_FORMATS.iter().zip(file_hashes(data, threads)?) {
+            record(name, &format!("file.{ext}"), got);
+        }
     }
     Ok(out)
+}
+
+/// The table's value for (scene, key), if it has the row.
+#[must_use]
+pub fn expected(scene: &str, key: &str) -> Option<u64> {
+    GOLDEN
+        .iter()
+        .find(|(s, k, _)| *s == scene && *k == key)
+        .map(|e| e.2)
 }
 
 /// The table as Rust source rows, for updating [`GOLDEN`].
@@ -309,11 +385,6 @@ pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outc
 pub fn table_source(outcomes: &[Outcome]) -> String {
     outcomes
         .iter()
-        .map(|o| {
-            format!(
-                "    (\"{}\", \"{}\", {:#018x}),\n",
-                o.scene, o.sampler, o.got
-            )
-        })
+        .map(|o| format!("    (\"{}\", \"{}\", {:#018x}),\n", o.scene, o.key, o.got))
         .collect()
 }

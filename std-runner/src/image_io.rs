@@ -6,7 +6,7 @@
 //! Transfer functions use `libm`, so the same render gives the same bytes
 //! on every machine.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -105,50 +105,58 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
     result
 }
 
-/// Writes `pixels` (linear RGB, row-major) to `path` as PNG or EXR by its
-/// extension, with `metadata` as PNG text chunks or EXR comments.
-pub fn write_image(
-    path: &Path,
-    width: u32,
-    height: u32,
-    pixels: &[Vec3],
-    transfer: Transfer,
-    metadata: &[(String, String)],
-) -> Result<()> {
-    assert_eq!(pixels.len(), (width * height) as usize);
-    match extension(path).as_deref() {
-        Some("png") => write_atomic(path, |tmp| {
-            write_png(tmp, width, height, pixels, transfer, metadata)
-        }),
-        Some("exr") => write_atomic(path, |tmp| write_exr(tmp, width, height, pixels, metadata)),
-        _ => bail!("output `{}` must end in .png or .exr", path.display()),
+/// An image file format the renderer writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// 8-bit RGB PNG under a [`Transfer`] curve.
+    Png,
+    /// Linear 32-bit float RGB OpenEXR.
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format a file name asks for by its extension (any case).
+    #[must_use]
+    pub fn of(path: &Path) -> Option<ImageFormat> {
+        match extension(path).as_deref() {
+            Some("png") => Some(ImageFormat::Png),
+            Some("exr") => Some(ImageFormat::Exr),
+            _ => None,
+        }
     }
 }
 
-fn write_png(
-    path: &Path,
+/// The bytes of an image file of `pixels` (linear RGB, row-major), with
+/// `metadata` as PNG text chunks or EXR comments. The same pixels and
+/// metadata give the same bytes on every machine.
+pub fn image_bytes(
+    format: ImageFormat,
     width: u32,
     height: u32,
     pixels: &[Vec3],
     transfer: Transfer,
     metadata: &[(String, String)],
-) -> Result<()> {
-    let bytes: Vec<u8> = pixels
-        .iter()
-        .flat_map(|p| {
-            [
-                to_u8(p.x, transfer),
-                to_u8(p.y, transfer),
-                to_u8(p.z, transfer),
-            ]
-        })
-        .collect();
-    write_png_rgb8(path, width, height, &bytes, transfer, metadata)
+) -> Result<Vec<u8>> {
+    assert_eq!(pixels.len(), (width * height) as usize);
+    match format {
+        ImageFormat::Png => {
+            let rgb8: Vec<u8> = pixels
+                .iter()
+                .flat_map(|p| [p.x, p.y, p.z].map(|v| to_u8(v, transfer)))
+                .collect();
+            png_rgb8_bytes(width, height, &rgb8, transfer, metadata)
+        }
+        ImageFormat::Exr => exr_bytes(width, height, pixels, metadata),
+    }
+}
+
+/// Writes `bytes` to `path`, naming the file in the error.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    std::fs::write(path, bytes).with_context(|| format!("cannot write `{}`", path.display()))
 }
 
 /// Writes 8-bit RGB `bytes` (already encoded with `transfer`, row-major)
-/// as a PNG at `path`, with `metadata` as text chunks. Not atomic on its
-/// own: wrap it in [`write_atomic`].
+/// as a PNG at `path`, atomically, with `metadata` as text chunks.
 pub fn write_png_rgb8(
     path: &Path,
     width: u32,
@@ -157,10 +165,22 @@ pub fn write_png_rgb8(
     transfer: Transfer,
     metadata: &[(String, String)],
 ) -> Result<()> {
+    let png = png_rgb8_bytes(width, height, bytes, transfer, metadata)?;
+    write_atomic(path, |tmp| write_file(tmp, &png))
+}
+
+/// The PNG file of 8-bit RGB `bytes` (already encoded with `transfer`,
+/// row-major), with `metadata` as text chunks.
+pub fn png_rgb8_bytes(
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+    transfer: Transfer,
+    metadata: &[(String, String)],
+) -> Result<Vec<u8>> {
     assert_eq!(bytes.len(), width as usize * height as usize * 3);
-    let file = std::fs::File::create(path)
-        .with_context(|| format!("cannot create `{}`", path.display()))?;
-    let mut enc = png::Encoder::new(BufWriter::new(file), width, height);
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
     match transfer {
@@ -173,16 +193,15 @@ pub fn write_png_rgb8(
     let mut writer = enc.write_header()?;
     writer.write_image_data(bytes)?;
     writer.finish()?;
-    Ok(())
+    Ok(out)
 }
 
-fn write_exr(
-    path: &Path,
+fn exr_bytes(
     width: u32,
     height: u32,
     pixels: &[Vec3],
     metadata: &[(String, String)],
-) -> Result<()> {
+) -> Result<Vec<u8>> {
     use exr::prelude::*;
     let w = width as usize;
     let channels = SpecificChannels::rgb(|pos: Vec2<usize>| {
@@ -208,13 +227,13 @@ fn write_exr(
         Encoding::SMALL_LOSSLESS,
         channels,
     );
-    let image = exr::image::Image::from_layer(layer);
-    image
+    let mut out = std::io::Cursor::new(Vec::new());
+    exr::image::Image::from_layer(layer)
         .write()
         .non_parallel()
-        .to_file(path)
-        .with_context(|| format!("cannot write `{}`", path.display()))?;
-    Ok(())
+        .to_buffered(&mut out)
+        .context("cannot encode the EXR image")?;
+    Ok(out.into_inner())
 }
 
 /// The largest texture accepted, in texels (64 Mi: 768 MiB of linear RGB).

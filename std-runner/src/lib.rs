@@ -6,6 +6,7 @@ pub mod bench;
 pub mod cli;
 pub mod film_file;
 pub mod golden;
+pub mod hash;
 pub mod image_io;
 pub mod render;
 pub mod scene_file;

@@ -13,6 +13,7 @@ use strata::trace::{
     Bvh, BvhError, BvhNode8, Sphere, SphereChunk8, SphereSet, bvh_storage_for, chunks_for,
 };
 
+use crate::hash::Fnv;
 use crate::workload::{course_spheres, cover_spheres};
 
 /// An image texture's texels, linear RGB, row 0 at the top.
@@ -240,38 +241,7 @@ impl SceneData {
                 h.v3(c);
             }
         }
-        h.0
-    }
-}
-
-/// FNV-1a, 64-bit, over little-endian words.
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    fn bytes(&mut self, b: &[u8]) {
-        for &x in b {
-            self.0 = (self.0 ^ x as u64).wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-    fn u32(&mut self, x: u32) {
-        self.bytes(&x.to_le_bytes());
-    }
-    fn u64(&mut self, x: u64) {
-        self.bytes(&x.to_le_bytes());
-    }
-    fn f(&mut self, x: f32) {
-        self.u32(x.to_bits());
-    }
-    fn v3(&mut self, v: Vec3) {
-        self.f(v.x);
-        self.f(v.y);
-        self.f(v.z);
+        h.finish()
     }
 }
 

@@ -162,7 +162,7 @@ pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec
     let path = cache_dir.join(format!(
         "{}-{:016x}.ref",
         view.scene.name,
-        fnv(key.as_bytes())
+        crate::hash::fnv1a(key.as_bytes())
     ));
     if let Some(pixels) = read_reference(&path, &key, n) {
         return Ok((pixels, true));
@@ -183,12 +183,6 @@ pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec
         );
     }
     Ok((pixels, false))
-}
-
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
 }
 
 /// The cached pixels, or `None` if the file is missing, was made for
@@ -494,10 +488,8 @@ pub fn write_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<(
         "Software".to_string(),
         format!("strata {}", env!("CARGO_PKG_VERSION")),
     )];
-    write_atomic(path, |tmp| {
-        write_png_rgb8(tmp, width, height, bytes, Transfer::Srgb, &meta)
-    })
-    .with_context(|| format!("writing `{}`", path.display()))
+    write_png_rgb8(path, width, height, bytes, Transfer::Srgb, &meta)
+        .with_context(|| format!("writing `{}`", path.display()))
 }
 
 #[cfg(test)]

@@ -1,4 +1,9 @@
-//! Value-stability locks.
+//! The core's value locks: the bits the core alone produces, checked on
+//! every platform CI builds (x86-64 native and portable SSE2, aarch64
+//! under qemu, WebAssembly under a WASI runtime). This binary needs only
+//! `strata` and its own dependencies, so it builds for any of them; the
+//! render and output-file locks, which need the runner, are in
+//! `std-runner/tests/output_locks.rs`.
 //!
 //! 1. The PCG32 reference vector: `pcg32_srandom(42, 54)` from the official
 //!    pcg-c-basic demo, the same check `shared/scenes/gen_scenes.py` makes.
@@ -6,34 +11,29 @@
 //!    samples' streams, and the first values of each sampler kind.
 //! 3. The mapping lock: a hash of the bits every mapping (sample, pdf,
 //!    invert) and both ONBs produce on a fixed grid. It pins the `libm`
-//!    paths, so a build for another SIMD level, or another `libm`, that
-//!    rounds differently fails here.
+//!    paths, so a build for another SIMD level, architecture or `libm`
+//!    that rounds differently fails here.
 //! 4. The tracing lock: a hash of the closest hits (sphere and `t` bits)
-//!    of seeded random rays against the course and cover layouts, through
-//!    the scalar, 1×8, packet and BVH paths. CI runs it on an SSE2 and a native
-//!    (AVX2/AVX-512) build: both must produce these very values.
-//! 5. The render lock: the golden table of `strata verify`
-//!    (`strata_runner::golden`), a hash of the exact film sums of small
-//!    renders of every built-in scene and the example scene file with every
-//!    sampler, and of six reconstruction variants. It pins the whole path: the dimension layout, every
-//!    material, lights and MIS, the BVH, the film.
+//!    of seeded random rays against the course and cover layouts
+//!    (`tests/data/*.csv`, the reference sphere lists), through the
+//!    scalar, 1×8, packet and BVH paths.
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation: the properties (uniformity, independence, stratification,
-//! order independence) are proved in `chi2.rs`, `determinism.rs` and
-//! `stratification.rs`. If a change trips this test on purpose, every
-//! seeded render changes: update the values and add a line under "Output
-//! changes" in CHANGELOG.md.
+//! order independence) are proved by the root suite's statistical tests.
+//! If a change trips this test on purpose, every seeded render changes:
+//! update the values, raise `strata::render::OUTPUT_REVISION` and add a
+//! line under "Output changes" in CHANGELOG.md.
 
 use glam::{UVec2, Vec2, Vec3};
 use rand_core::Rng;
 use strata::Onb;
 use strata::mapping::*;
-use strata::rng::ONE_MINUS_EPSILON;
-use strata::rng::{Pcg32, STREAM, pixel_sample_rng, stream_state};
+use strata::rng::{ONE_MINUS_EPSILON, Pcg32, STREAM, next_f32, pixel_sample_rng, stream_state};
 use strata::sampler::{Independent, Sampler, Stratified, UniformGrid};
+use strata::trace::*;
 
-const CHANGED: &str = "the stream derivation changed: every seeded render changes with it. \
+const CHANGED: &str = "the core's output changed: every seeded render changes with it. \
      If intended, update this lock, raise strata::render::OUTPUT_REVISION and record it under \
      \"Output changes\" in CHANGELOG.md";
 
@@ -255,15 +255,51 @@ fn mapping_lock() {
     );
 }
 
+/// The reference sphere lists (`x,y,z,r` per line after a header), built
+/// into the binary so it needs no file system (WebAssembly has none).
+fn spheres(csv: &str) -> Vec<Sphere> {
+    csv.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let v: Vec<f32> = l.split(',').map(|x| x.trim().parse().unwrap()).collect();
+            Sphere::new(Vec3::new(v[0], v[1], v[2]), v[3])
+        })
+        .collect()
+}
+
+/// `n` rays from a PCG32 with `seed`: origins uniform in `[lo, hi]`,
+/// directions uniform on the sphere.
+fn random_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Ray> {
+    let mut rng = Pcg32::new(seed, STREAM);
+    let mut u = move || next_f32(&mut rng);
+    (0..n)
+        .map(|_| {
+            let o = lo + (hi - lo) * Vec3::new(u(), u(), u());
+            let d = sample_uniform_sphere(Vec2::new(u(), u()));
+            Ray::new(o, d.normalize())
+        })
+        .collect()
+}
+
 #[test]
 fn tracing_lock() {
-    use strata::trace::*;
-    use strata_runner::workload::{course_spheres, cover_spheres, random_rays, ray_box};
+    let layouts = [
+        (
+            spheres(include_str!("data/course.csv")),
+            Vec3::new(-2.0, -0.5, -2.0),
+            Vec3::new(2.0, 1.0, 1.0),
+        ),
+        (
+            spheres(include_str!("data/cover.csv")),
+            Vec3::new(-11.0, 0.0, -11.0),
+            Vec3::new(11.0, 2.0, 11.0),
+        ),
+    ];
     let mut digests = vec![];
-    for (spheres, cover) in [(course_spheres(), false), (cover_spheres(), true)] {
+    for (spheres, lo, hi) in layouts {
         let mut storage = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
         let set = SphereSet::build(&spheres, &mut storage).unwrap();
-        let (lo, hi) = ray_box(cover);
         let rays = random_rays(4096, lo, hi, 3);
         let size = bvh_storage_for(spheres.len());
         let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
@@ -292,53 +328,4 @@ fn tracing_lock() {
     }
     let lock = [0x25f6d800a7fff84a_u64, 0xa227d07a7e715550];
     assert_eq!(digests, lock, "hits changed: {digests:#018x?}\n{CHANGED}");
-}
-
-#[test]
-fn render_lock() {
-    // The golden table of `strata verify`: every built-in scene and the
-    // example scene file under every sampler (and the reconstruction
-    // variants: filters, the prefiltered checker, adaptive sampling),
-    // rendered through the
-    // runner (BVH where it would be used) on 2 threads in tiles of 8.
-    use strata_runner::golden;
-    let outcomes = golden::verify(2, &mut |_| {}).unwrap();
-    let table = golden::table_source(&outcomes);
-    assert!(
-        outcomes.iter().all(golden::Outcome::pass),
-        "renders changed; the table is now:\n{table}{CHANGED}"
-    );
-    assert_eq!(
-        outcomes.len(),
-        golden::GOLDEN.len(),
-        "a table row has no render"
-    );
-    // One thread gives the same hash as two.
-    let data = golden::scene("cover").unwrap();
-    let one = golden::render_hash(&data, strata_runner::render::SamplerKind::Sobol, 1).unwrap();
-    assert_eq!(
-        Some(one),
-        golden::GOLDEN
-            .iter()
-            .find(|e| e.0 == "cover" && e.1 == "sobol")
-            .map(|e| e.2)
-    );
-}
-
-/// The table and the output revision move together: merges refuse parts
-/// of another revision, so a table edit without a new
-/// `strata::render::OUTPUT_REVISION` would let parts of different pixels
-/// merge.
-#[test]
-fn golden_table_is_pinned_to_the_output_revision() {
-    let text: String = strata_runner::golden::GOLDEN
-        .iter()
-        .map(|(s, k, h)| format!("{s} {k} {h:016x}\n"))
-        .collect();
-    let digest = fnv(text.bytes().map(u32::from));
-    assert_eq!(
-        (strata::render::OUTPUT_REVISION, digest),
-        (2, 0x388b7b0666533a1c),
-        "the golden table changed: raise OUTPUT_REVISION and update this pin. {CHANGED}"
-    );
 }
