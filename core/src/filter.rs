@@ -174,6 +174,24 @@ pub enum FilterError {
     Zero,
 }
 
+impl core::fmt::Display for FilterError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FilterError::Radius => write!(
+                f,
+                "the filter radius must be in (0, {FILTER_MAX_RADIUS}] pixels"
+            ),
+            FilterError::Parameter => {
+                f.write_str("a filter parameter is not finite, or sigma/tau is not positive")
+            }
+            FilterError::Zero => f.write_str("the filter is zero everywhere on its support"),
+        }
+    }
+}
+
+impl core::error::Error for FilterError {}
+
 /// A piecewise-constant density on `[0, 1)²` over `FILTER_TABLE_SIZE²`
 /// cells, with sample, pdf and invert like every other mapping. Fixed
 /// size: no allocation.

@@ -466,8 +466,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
 fn intersection(s: &mut Suite<'_>) -> Result<()> {
     for w in trace_workloads() {
         let mut storage = vec![SphereChunk8::EMPTY; chunks_for(w.spheres.len())];
-        let set =
-            SphereSet::build(&w.spheres, &mut storage).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let set = SphereSet::build(&w.spheres, &mut storage)?;
         let spheres = &w.spheres;
         let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
         let n = w.rays.len() as f64;
@@ -599,13 +598,12 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
     ];
     for (name, spheres, rays) in &workloads {
         let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
-        let set = SphereSet::build(spheres, &mut chunks).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let set = SphereSet::build(spheres, &mut chunks)?;
         let size = bvh_storage_for(spheres.len());
         let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
         let mut lanes = vec![0.0f32; size.lanes];
         let mut ids = vec![0u32; size.ids];
-        let tree = Bvh::build(spheres, &mut nodes, &mut lanes, &mut ids)
-            .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let tree = Bvh::build(spheres, &mut nodes, &mut lanes, &mut ids)?;
         let brute = &rays[..rays.len().min(if spheres.len() > 1000 {
             20_000
         } else {

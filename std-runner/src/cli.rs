@@ -779,13 +779,8 @@ impl FilterName {
         use strata::filter::FilterKind;
         let kind = FilterKind::ALL[self as usize];
         let r = radius.unwrap_or(kind.default_radius());
-        strata::render::PixelFilter::new(kind, r).map_err(|e| {
-            anyhow::anyhow!(
-                "--filter {} --filter-radius {r}: {e:?} (the radius must be in (0, {}])",
-                kind.name(),
-                strata::filter::FILTER_MAX_RADIUS
-            )
-        })
+        strata::render::PixelFilter::new(kind, r)
+            .map_err(|e| anyhow::anyhow!("--filter {} --filter-radius {r}: {e}", kind.name()))
     }
 }
 

@@ -275,13 +275,13 @@ pub fn render_variant_hash(
         None => {}
         Some(Variant::Filter(kind)) => {
             job.filter = strata::render::PixelFilter::new(kind, kind.default_radius())
-                .map_err(|e| anyhow!("filter {}: {e:?}", kind.name()))?;
+                .map_err(|e| anyhow!("filter {}: {e}", kind.name()))?;
         }
         Some(Variant::TextureBox) => job.texture_filter = strata::render::TextureFilter::Box,
         Some(Variant::Adaptive) => {
             job.adaptive = Some(
                 strata::render::Adaptive::new(SPP, 4 * SPP, 0.05)
-                    .map_err(|e| anyhow!("adaptive: {e:?}"))?,
+                    .map_err(|e| anyhow!("adaptive: {e}"))?,
             );
             job.spp = 4 * SPP;
             job.samples = 0..4 * SPP;

@@ -166,7 +166,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         ));
     }
     let camera = Camera::new(&data.camera, job.width, job.height)
-        .map_err(|e| anyhow!("camera of `{}`: {e:?}", data.name))?;
+        .map_err(|e| anyhow!("camera of `{}`: {e}", data.name))?;
     let settings = RenderSettings {
         max_depth: job.max_depth,
         direct_lighting: job.direct_lighting,
@@ -267,7 +267,7 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
                     &mut film,
                 ),
             }
-            .map_err(|e| anyhow!("tile {tile:?}: {e:?}"))?;
+            .map_err(|e| anyhow!("tile {}: {e}", crate::film_file::window_text(tile)))?;
             progress(tile.area() as u64);
             Ok((tile, film, stats))
         })

@@ -139,8 +139,8 @@ impl SceneData {
         f: impl FnOnce(&Scene<'_>) -> R,
     ) -> anyhow::Result<R> {
         let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(self.spheres.len())];
-        let set =
-            SphereSet::build(&self.spheres, &mut chunks).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        let set = SphereSet::build(&self.spheres, &mut chunks)
+            .map_err(|e| anyhow::anyhow!("scene `{}`: {e}", self.name))?;
         let materials = self.materials();
         let mut lights = vec![0u32; self.spheres.len()];
         let n = collect_lights(&materials, &self.sphere_material, &mut lights)
@@ -153,7 +153,7 @@ impl SceneData {
             &lights[..n],
             self.background,
         )
-        .map_err(|e| anyhow::anyhow!("scene `{}` is invalid: {e:?}", self.name))?;
+        .map_err(|e| anyhow::anyhow!("scene `{}` is invalid: {e}", self.name))?;
         if !self.use_bvh(mode) {
             return Ok(f(&scene));
         }
@@ -165,13 +165,13 @@ impl SceneData {
             Ok(bvh) => {
                 let scene = scene
                     .with_bvh(bvh)
-                    .map_err(|e| anyhow::anyhow!("scene `{}`: BVH {e:?}", self.name))?;
+                    .map_err(|e| anyhow::anyhow!("scene `{}`: {e}", self.name))?;
                 Ok(f(&scene))
             }
             // Coordinates beyond the BVH's range: brute force is exact
             // there too, only slower.
             Err(BvhError::SphereOutOfRange { .. }) => Ok(f(&scene)),
-            Err(e) => Err(anyhow::anyhow!("scene `{}`: BVH {e:?}", self.name)),
+            Err(e) => Err(anyhow::anyhow!("scene `{}`: {e}", self.name)),
         }
     }
 

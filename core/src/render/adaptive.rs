@@ -38,6 +38,19 @@ pub enum AdaptiveError {
     Threshold,
 }
 
+impl core::fmt::Display for AdaptiveError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            AdaptiveError::Base => "the adaptive base sample count is 0",
+            AdaptiveError::Max => "the adaptive maximum is below the base sample count",
+            AdaptiveError::Threshold => "the adaptive threshold is not positive and finite",
+        })
+    }
+}
+
+impl core::error::Error for AdaptiveError {}
+
 impl Adaptive {
     /// `base ≥ 1` samples first (and per batch), at most `max ≥ base`, while
     /// the relative error exceeds `threshold`, positive and finite.

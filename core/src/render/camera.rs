@@ -40,6 +40,25 @@ pub enum CameraError {
     Lens,
 }
 
+impl core::fmt::Display for CameraError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            CameraError::EmptyImage => "the image width or height is 0",
+            CameraError::DegenerateView => {
+                "look_from equals look_at, up is parallel to the view, or a vector is not finite"
+            }
+            CameraError::FieldOfView => "the field of view must be in (0, 180) degrees",
+            CameraError::Lens => {
+                "the focus distance must be positive and finite (and a pixel on the focus plane \
+                 representable), and the defocus angle in [0, 180) degrees"
+            }
+        })
+    }
+}
+
+impl core::error::Error for CameraError {}
+
 /// A camera for an image of `width × height` pixels. Pixel `(0, 0)` is the
 /// top-left; a pixel offset `(0, 0)` is its top-left corner, `(0.5, 0.5)`
 /// its centre (the course's pixel centre).

@@ -149,6 +149,26 @@ pub enum RenderError {
     },
 }
 
+impl core::fmt::Display for RenderError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RenderError::MaxDepth => f.write_str("max_depth must be at least 1"),
+            RenderError::Tile => f.write_str("the tile is empty or reaches outside the image"),
+            RenderError::SamplerTooSmall { spp, max } => write!(
+                f,
+                "the sampler holds {spp} samples per pixel but adaptive sampling may take {max}"
+            ),
+            RenderError::FilmSize { needed, provided } => write!(
+                f,
+                "the film has {provided} entries for a tile of {needed} pixels"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for RenderError {}
+
 /// The power heuristic (β = 2): the weight of a strategy with density `a`
 /// against one with density `b`.
 ///

@@ -190,6 +190,21 @@ pub enum MaterialError {
     Energy,
 }
 
+impl core::fmt::Display for MaterialError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            MaterialError::Colour => {
+                "a colour component is negative, above 1 for a reflectance, or not finite"
+            }
+            MaterialError::Parameter => "a weight, exponent, roughness or index is out of range",
+            MaterialError::Energy => "a normalised lobe has kd + ks > 1",
+        })
+    }
+}
+
+impl core::error::Error for MaterialError {}
+
 /// `r₀ + (1 − r₀)(1 − c)⁵`.
 #[inline]
 fn schlick(cosine: f32, r0: f32) -> f32 {

@@ -81,6 +81,38 @@ pub enum SceneError {
     Lights,
 }
 
+impl core::fmt::Display for SceneError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SceneError::Mismatch => f.write_str(
+                "the sphere set, sphere list and material map do not describe the same spheres",
+            ),
+            SceneError::Sphere { sphere } => write!(
+                f,
+                "sphere {sphere} has a non-finite centre or a radius that is not positive and finite"
+            ),
+            SceneError::MaterialIndex { sphere } => {
+                write!(f, "sphere {sphere} names a material that does not exist")
+            }
+            SceneError::Material { material, error } => write!(f, "material {material}: {error}"),
+            SceneError::Lights => {
+                f.write_str("the light list is not exactly the emissive spheres, in index order")
+            }
+        }
+    }
+}
+
+impl core::error::Error for SceneError {
+    #[inline]
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            SceneError::Material { error, .. } => Some(error),
+            _ => None,
+        }
+    }
+}
+
 /// A scene for [`super::render_tile`]. Sphere `i` has material
 /// `materials[sphere_material[i]]`; `lights` lists, in increasing order,
 /// the indices of the spheres whose material emits (the direct-lighting

@@ -182,6 +182,31 @@ pub enum BvhError {
     },
 }
 
+impl core::fmt::Display for BvhError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            BvhError::StorageTooSmall {
+                slice,
+                needed,
+                provided,
+            } => write!(
+                f,
+                "BVH storage too small: `{slice}` needs {needed} entries, {provided} given"
+            ),
+            BvhError::TooManySpheres => {
+                write!(f, "a BVH holds at most {BVH_MAX_SPHERES} spheres")
+            }
+            BvhError::SphereOutOfRange { index } => write!(
+                f,
+                "sphere {index} is infinite or beyond ±{BVH_MAX_COORDINATE:e} (BVH limit)"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for BvhError {}
+
 /// A BVH8 over spheres in caller storage (see the module docs).
 ///
 /// ```

@@ -73,6 +73,26 @@ pub enum SphereSetError {
     Padding,
 }
 
+impl core::fmt::Display for SphereSetError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SphereSetError::StorageTooSmall { needed, provided } => write!(
+                f,
+                "sphere storage too small: {needed} chunks needed, {provided} given"
+            ),
+            SphereSetError::TooManySpheres => {
+                f.write_str("more spheres than a 32-bit lane index can name")
+            }
+            SphereSetError::Padding => {
+                f.write_str("a padding lane of the last sphere chunk has a non-zero radius")
+            }
+        }
+    }
+}
+
+impl core::error::Error for SphereSetError {}
+
 /// A read-only view of spheres stored as [`SphereChunk8`]s in
 /// caller-provided storage. Sphere `i` is lane `i % 8` of chunk `i / 8`.
 ///
