@@ -472,7 +472,9 @@ pub fn any_hit(ray: &Ray, spheres: &[Sphere]) -> bool {
 
 /// The SIMD instruction set this build of `strata` runs its 8-wide kernels
 /// on, fixed at compile time by the target features. More variants may come
-/// with new targets, so matches need a wildcard arm.
+/// with new targets, so matches need a wildcard arm. The order (`Ord`)
+/// ranks the x86 levels from `Sse2` to `Avx512`; it means nothing across
+/// architectures (`Neon` and `Simd128` sort last).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 #[non_exhaustive]
 pub enum SimdLevel {

@@ -15,7 +15,8 @@
 //!    that rounds differently fails here.
 //! 4. The tracing lock: a hash of the closest hits (sphere and `t` bits)
 //!    of seeded random rays against the course and cover layouts
-//!    (`tests/data/*.csv`, the reference sphere lists), through the
+//!    (`core/tests/data/*.csv`, the reference sphere lists, built in with
+//!    `include_str!`), through the
 //!    scalar, 1×8, packet and BVH paths.
 //!
 //! These numbers were produced by this implementation and are a lock, not

@@ -1303,11 +1303,16 @@ mod tests {
 
     #[test]
     fn json_outputs_need_a_json_name_in_any_case() {
-        let dir = std::env::temp_dir();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
         for ok in ["r.json", "R.JSON", "r.Json"] {
             check_json(&dir.join(ok), "--json").unwrap();
-            assert!(!dir.join(ok).exists(), "the probe leaves nothing");
         }
+        assert_eq!(
+            std::fs::read_dir(dir).unwrap().count(),
+            0,
+            "the probe leaves nothing"
+        );
         for bad in ["r.txt", "r", "json"] {
             let e = check_json(&dir.join(bad), "--stats").unwrap_err();
             assert!(e.to_string().contains("--stats"), "{e}");

@@ -19,8 +19,9 @@
 //! raise `strata::render::OUTPUT_REVISION`, update the rows and add a line
 //! under "Output changes" in CHANGELOG.md. New rows (a new sampler, scene
 //! or file) are appended and do not change the revision, so users'
-//! partial films keep merging; the pin test in
-//! `std-runner/tests/output_locks.rs` enforces both.
+//! partial films keep merging. The file rows also hold the crate version's
+//! text, so a release re-pins them. The pin test in
+//! `std-runner/tests/output_locks.rs` enforces all of it.
 
 use anyhow::{Result, anyhow};
 use strata::render::PixelSum;
@@ -332,41 +333,89 @@ impl Outcome {
     }
 }
 
-/// Re-renders every (scene, sampler) of the table and every variant,
-/// hashes every scene, and encodes every file row, calling `each` as each
-/// finishes. The outcomes come in table order.
-pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outcome>> {
+/// Every row this build can produce, as (scene, key): every scene under
+/// every sampler, the variants, every scene's hash, the built-in scenes'
+/// files. [`verify`] checks the table's rows in the table's order, then
+/// any of these the table lacks.
+#[must_use]
+pub fn rows() -> Vec<(&'static str, String)> {
     let mut out = Vec::new();
-    let mut record = |scene: &str, key: &str, got: u64| {
-        let o = Outcome {
-            scene: scene.to_string(),
-            key: key.to_string(),
-            expected: expected(scene, key),
-            got,
-        };
-        each(&o);
-        out.push(o);
-    };
+    for name in scene_names() {
+        for sampler in SamplerKind::ALL {
+            out.push((name, sampler.name().to_string()));
+        }
+    }
+    for (name, key, _, _) in VARIANTS {
+        out.push((name, key.to_string()));
+    }
+    for name in scene_names() {
+        out.push((name, "scene".to_string()));
+    }
+    for name in BUILT_IN {
+        for ext in FILE_FORMATS {
+            out.push((name, format!("file.{ext}")));
+        }
+    }
+    out
+}
+
+/// This build's value of the row (`name`, `key`) of the table, where
+/// `scene_data` is the scene `name` loads.
+pub fn compute(name: &str, scene_data: &SceneData, key: &str, threads: usize) -> Result<u64> {
+    if key == "scene" {
+        return Ok(scene_data.content_hash());
+    }
+    if let Some(ext) = key.strip_prefix("file.") {
+        let k = FILE_FORMATS
+            .iter()
+            .position(|f| *f == ext)
+            .ok_or_else(|| anyhow!("golden key `{key}`: no such file format"))?;
+        return Ok(file_hashes(scene_data, threads)?[k]);
+    }
+    if let Some((_, _, sampler, variant)) = VARIANTS.iter().find(|v| v.0 == name && v.1 == key) {
+        return render_variant_hash(scene_data, *sampler, Some(*variant), threads);
+    }
+    let sampler = SamplerKind::ALL
+        .into_iter()
+        .find(|s| s.name() == key)
+        .ok_or_else(|| {
+            anyhow!("golden key `{key}` of `{name}` is not a sampler, variant, scene or file")
+        })?;
+    render_hash(scene_data, sampler, threads)
+}
+
+/// Checks every row of the table in the table's order, then computes the
+/// rows this build can produce that the table lacks (they fail, with no
+/// expected value), calling `each` as each finishes.
+pub fn verify(threads: usize, each: &mut dyn FnMut(&Outcome)) -> Result<Vec<Outcome>> {
     let scenes = scene_names()
         .into_iter()
         .map(|name| Ok((name, scene(name)?)))
         .collect::<Result<Vec<_>>>()?;
-    for (name, data) in &scenes {
-        for sampler in SamplerKind::ALL {
-            record(name, sampler.name(), render_hash(data, sampler, threads)?);
+    let mut keys: Vec<(String, String)> = GOLDEN
+        .iter()
+        .map(|(s, k, _)| (s.to_string(), k.to_string()))
+        .collect();
+    for (s, k) in rows() {
+        if expected(s, &k).is_none() {
+            keys.push((s.to_string(), k));
         }
     }
-    for (name, key, sampler, variant) in VARIANTS {
-        let got = render_variant_hash(&scene(name)?, sampler, Some(variant), threads)?;
-        record(name, key, got);
-    }
-    for (name, data) in &scenes {
-        record(name, "scene", data.content_hash());
-    }
-    for (name, data) in scenes.iter().filter(|(n, _)| BUILT_IN.contains(n)) {
-        for (ext, got) in FILE_FORMATS.iter().zip(file_hashes(data, threads)?) {
-            record(name, &format!("file.{ext}"), got);
-        }
+    let mut out = Vec::with_capacity(keys.len());
+    for (name, key) in keys {
+        let data = &scenes
+            .iter()
+            .find(|(n, _)| *n == name)
+            .ok_or_else(|| anyhow!("golden row `{name}` names no scene of this build"))?
+            .1;
+        let o = Outcome {
+            expected: expected(&name, &key),
+            got: compute(&name, data, &key, threads)?,
+            scene: name,
+            key,
+        };
+        each(&o);
+        out.push(o);
     }
     Ok(out)
 }

@@ -9,7 +9,8 @@
 //!    reconstruction variants; the content hash of every scene; and the
 //!    exact bytes of a PNG, an EXR and a `.film` of each built-in scene.
 //! 2. The versioning rule: `OUTPUT_REVISION` changes when an existing
-//!    output changes; new rows are appended and do not change it.
+//!    output changes; new rows are appended and do not change it (see
+//!    [`PINS`]).
 //!
 //! These numbers were produced by this implementation and are a lock, not
 //! a derivation. If a change trips them on purpose, every seeded render
@@ -63,32 +64,72 @@ fn golden_table_reproduces() {
     assert_eq!(Some(one), golden::expected("cover", "sobol"));
 }
 
-/// The revision pin: (revision, rows, digest of those first rows). When
-/// `OUTPUT_REVISION` is raised, pin it again over the whole table.
-const PIN: (u32, usize, u64) = (2, 48, 0x7eab3799ac7085ad);
+/// The pins: (output identity, rows, digest of the table's first `rows`
+/// rows), oldest first. The identity is `film_file::version()`, the crate
+/// version and `+rN` of `OUTPUT_REVISION` that film files carry: merges
+/// refuse parts of another identity. Appending rows adds a pin of the same
+/// identity; changing a row needs a new identity (a new revision, or a
+/// release, whose version text is in every file) and a pin of it.
+const PINS: &[(&str, usize, u64)] = &[
+    ("0.1.0+r2", 31, 0x17a15c139b9f1176),
+    ("0.1.0+r2", 48, 0x7eab3799ac7085ad),
+];
 
-/// Merges refuse parts of another revision, so the revision is what keeps
-/// parts with different pixels apart: an existing row may change only
-/// with a new revision; rows may be added (at the end) without one.
+fn digest(rows: usize) -> u64 {
+    fnv(&golden::GOLDEN[..rows]
+        .iter()
+        .map(row_text)
+        .collect::<String>())
+}
+
+/// An existing row may change only with a new output identity, and rows
+/// may be added (at the end) without one.
 #[test]
-fn existing_rows_change_only_with_the_output_revision() {
-    let (revision, rows, digest) = PIN;
+fn existing_rows_change_only_with_a_new_output_identity() {
+    let current = strata_runner::film_file::version();
+    let &(last, rows, _) = PINS.last().unwrap();
     assert_eq!(
-        strata::render::OUTPUT_REVISION,
-        revision,
-        "OUTPUT_REVISION changed: pin the whole table again (revision, row count, digest)"
+        last,
+        current,
+        "the output identity is now {current}: pin the whole table for it \
+         (add (\"{current}\", {}, {:#018x}) to PINS)",
+        golden::GOLDEN.len(),
+        digest(golden::GOLDEN.len())
     );
     assert!(
-        golden::GOLDEN.len() >= rows,
-        "golden rows were removed: users' outputs of revision {revision} are no longer checked"
+        rows <= golden::GOLDEN.len(),
+        "golden rows were removed: outputs of {current} are no longer checked"
     );
-    let pinned: String = golden::GOLDEN[..rows].iter().map(row_text).collect();
     assert_eq!(
-        fnv(&pinned),
-        digest,
-        "a row of revision {revision} changed, or rows were inserted before its end \
-         (append new rows instead). {CHANGED}"
+        rows,
+        golden::GOLDEN.len(),
+        "rows were appended: pin them (add (\"{current}\", {}, {:#018x}) to PINS); \
+         new rows keep the revision",
+        golden::GOLDEN.len(),
+        digest(golden::GOLDEN.len())
     );
+    for &(identity, rows, want) in PINS {
+        let matches = digest(rows) == want;
+        if identity == current {
+            assert!(
+                matches,
+                "a row pinned for {identity} changed, or rows were inserted before row {rows} \
+                 (append new rows instead). {CHANGED}"
+            );
+        }
+    }
+    // An older identity's last pin must no longer match: a new revision
+    // is for changed outputs, never for added ones.
+    for (k, &(identity, rows, want)) in PINS.iter().enumerate() {
+        let last_of_its_identity = PINS[k + 1..].iter().all(|p| p.0 != identity);
+        if identity != current && last_of_its_identity {
+            assert_ne!(
+                digest(rows.min(golden::GOLDEN.len())),
+                want,
+                "{current} changes no row of {identity}: added rows keep the output identity"
+            );
+        }
+    }
     // Keys are unique, so a row can be found by name.
     let mut keys: Vec<(&str, &str)> = golden::GOLDEN.iter().map(|r| (r.0, r.1)).collect();
     keys.sort_unstable();
