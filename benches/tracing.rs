@@ -11,12 +11,13 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use strata::trace::*;
+use strata_runner::scenes::SceneBuffers;
 use strata_runner::workload::{shadow_rays, trace_workloads};
 
 fn intersect(c: &mut Criterion) {
     for w in trace_workloads() {
-        let mut storage = vec![SphereChunk8::EMPTY; chunks_for(w.spheres.len())];
-        let set = SphereSet::build(&w.spheres, &mut storage).unwrap();
+        let mut buffers = SceneBuffers::new(w.spheres.len(), false);
+        let (set, _) = buffers.trace(&w.spheres).unwrap();
         let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
         let scalar = |rays: &[Ray]| {
             rays.iter()
@@ -118,13 +119,9 @@ fn bvh(c: &mut Criterion) {
         ("random10k", random_spheres_10k(), box10k),
     ] {
         let rays = random_rays(100_000, lo, hi, 12);
-        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
-        let set = SphereSet::build(&spheres, &mut chunks).unwrap();
-        let size = bvh_storage_for(spheres.len());
-        let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
-        let mut lanes = vec![0.0f32; size.lanes];
-        let mut ids = vec![0u32; size.ids];
-        let tree = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+        let mut buffers = SceneBuffers::new(spheres.len(), true);
+        let (set, tree) = buffers.trace(&spheres).unwrap();
+        let tree = tree.unwrap();
         let packets: Vec<RayPacket8> = rays.chunks(8).map(RayPacket8::from_rays).collect();
         let mut g = c.benchmark_group(format!("bvh_closest/{name}"));
         g.sample_size(10);

@@ -8,45 +8,39 @@ mod support;
 use glam::{UVec2, Vec2, Vec3};
 use strata::render::*;
 use strata::rng::{Pcg32, STREAM, next_f32};
-use strata::trace::{Sphere, SphereChunk8, SphereSet, chunks_for};
+use strata::trace::Sphere;
 use strata::{Independent, Sampler, Stratified, UniformGrid};
+use strata_runner::scenes::SceneBuffers;
 
-/// A scene that owns its storage.
+/// A scene's data and the buffers it is built into.
 struct Owned<'a> {
     spheres: Vec<Sphere>,
-    chunks: Vec<SphereChunk8>,
     materials: Vec<Material<'a>>,
     sphere_material: Vec<u32>,
-    lights: Vec<u32>,
     background: Background,
+    buffers: SceneBuffers,
 }
 
 impl<'a> Owned<'a> {
     fn new(list: Vec<(Sphere, u32)>, materials: Vec<Material<'a>>, background: Background) -> Self {
         let (spheres, sphere_material): (Vec<_>, Vec<_>) = list.into_iter().unzip();
-        let mut lights = vec![0; spheres.len()];
-        let n = collect_lights(&materials, &sphere_material, &mut lights).unwrap();
-        lights.truncate(n);
-        let chunks = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
+        let buffers = SceneBuffers::new(spheres.len(), false);
         Self {
             spheres,
-            chunks,
             materials,
             sphere_material,
-            lights,
             background,
+            buffers,
         }
     }
 
     fn scene(&mut self) -> Scene<'_> {
-        let set = SphereSet::build(&self.spheres, &mut self.chunks).unwrap();
-        Scene::new(
+        Scene::build(
             &self.spheres,
-            set,
             &self.materials,
             &self.sphere_material,
-            &self.lights,
             self.background,
+            self.buffers.storage(),
         )
         .unwrap()
     }

@@ -29,7 +29,9 @@ pub use integrator::{
     render_tile_adaptive,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
-pub use scene::{BVH_THRESHOLD, Background, Scene, SceneError, collect_lights};
+pub use scene::{
+    BVH_THRESHOLD, Background, Scene, SceneError, SceneStorage, SceneStorageSize, collect_lights,
+};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 
 /// The revision of what renders compute: raised whenever a change alters

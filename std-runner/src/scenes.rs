@@ -6,12 +6,10 @@
 use glam::Vec3;
 use strata::render::BVH_THRESHOLD;
 use strata::render::{
-    Background, CameraDesc, ImageTexture, Material, Scene, Texture, collect_lights,
+    Background, CameraDesc, ImageTexture, Material, Scene, SceneStorage, SceneStorageSize, Texture,
 };
 use strata::rng::{Pcg32, next_f32};
-use strata::trace::{
-    Bvh, BvhError, BvhNode8, Sphere, SphereChunk8, SphereSet, bvh_storage_for, chunks_for,
-};
+use strata::trace::{Bvh, BvhNode8, BvhStorage, Sphere, SphereChunk8, SphereSet};
 
 use crate::hash::Fnv;
 use crate::workload::{course_spheres, cover_spheres};
@@ -125,6 +123,69 @@ fn with_albedo<'a>(material: Material<'static>, albedo: Texture<'a>) -> Material
     }
 }
 
+/// Owned memory for a core [`Scene`] of `n` spheres, sized by
+/// [`SceneStorageSize`]: the one place the runner, its benchmarks and the
+/// tests allocate a scene's buffers.
+#[derive(Debug)]
+pub struct SceneBuffers {
+    chunks: Vec<SphereChunk8>,
+    lights: Vec<u32>,
+    nodes: Vec<BvhNode8>,
+    lanes: Vec<f32>,
+    ids: Vec<u32>,
+}
+
+impl SceneBuffers {
+    /// Buffers for `n` spheres, with room for a BVH if `bvh`.
+    #[must_use]
+    pub fn new(n: usize, bvh: bool) -> Self {
+        let size = SceneStorageSize::for_spheres(n, bvh);
+        let b = size.bvh.unwrap_or(BvhStorage {
+            nodes: 0,
+            lanes: 0,
+            ids: 0,
+        });
+        Self {
+            chunks: vec![SphereChunk8::EMPTY; size.chunks],
+            lights: vec![0; size.lights],
+            nodes: vec![BvhNode8::EMPTY; b.nodes],
+            lanes: vec![0.0; b.lanes],
+            ids: vec![0; b.ids],
+        }
+    }
+
+    /// The buffers as [`Scene::build`] takes them.
+    pub fn storage(&mut self) -> SceneStorage<'_> {
+        SceneStorage {
+            chunks: &mut self.chunks,
+            lights: &mut self.lights,
+            bvh_nodes: &mut self.nodes,
+            bvh_lanes: &mut self.lanes,
+            bvh_ids: &mut self.ids,
+        }
+    }
+
+    /// The spheres' 8-wide set and, if the buffers have room for one,
+    /// their BVH, for tracing without a scene (benchmarks, tests).
+    pub fn trace<'a>(
+        &'a mut self,
+        spheres: &[Sphere],
+    ) -> anyhow::Result<(SphereSet<'a>, Option<Bvh<'a>>)> {
+        let set = SphereSet::build(spheres, &mut self.chunks)?;
+        let bvh = if self.nodes.is_empty() {
+            None
+        } else {
+            Some(Bvh::build(
+                spheres,
+                &mut self.nodes,
+                &mut self.lanes,
+                &mut self.ids,
+            )?)
+        };
+        Ok((set, bvh))
+    }
+}
+
 impl SceneData {
     /// Builds the core's view of the scene (8-wide sphere chunks, the
     /// materials with their images, the light list) and hands it to `f`.
@@ -138,41 +199,17 @@ impl SceneData {
         mode: BvhMode,
         f: impl FnOnce(&Scene<'_>) -> R,
     ) -> anyhow::Result<R> {
-        let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(self.spheres.len())];
-        let set = SphereSet::build(&self.spheres, &mut chunks)
-            .map_err(|e| anyhow::anyhow!("scene `{}`: {e}", self.name))?;
+        let mut buffers = SceneBuffers::new(self.spheres.len(), self.use_bvh(mode));
         let materials = self.materials();
-        let mut lights = vec![0u32; self.spheres.len()];
-        let n = collect_lights(&materials, &self.sphere_material, &mut lights)
-            .ok_or_else(|| anyhow::anyhow!("a sphere names a missing material"))?;
-        let scene = Scene::new(
+        let scene = Scene::build(
             &self.spheres,
-            set,
             &materials,
             &self.sphere_material,
-            &lights[..n],
             self.background,
+            buffers.storage(),
         )
         .map_err(|e| anyhow::anyhow!("scene `{}` is invalid: {e}", self.name))?;
-        if !self.use_bvh(mode) {
-            return Ok(f(&scene));
-        }
-        let size = bvh_storage_for(self.spheres.len());
-        let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
-        let mut lanes = vec![0.0f32; size.lanes];
-        let mut ids = vec![0u32; size.ids];
-        match Bvh::build(&self.spheres, &mut nodes, &mut lanes, &mut ids) {
-            Ok(bvh) => {
-                let scene = scene
-                    .with_bvh(bvh)
-                    .map_err(|e| anyhow::anyhow!("scene `{}`: {e}", self.name))?;
-                Ok(f(&scene))
-            }
-            // Coordinates beyond the BVH's range: brute force is exact
-            // there too, only slower.
-            Err(BvhError::SphereOutOfRange { .. }) => Ok(f(&scene)),
-            Err(e) => Err(anyhow::anyhow!("scene `{}`: {e}", self.name)),
-        }
+        Ok(f(&scene))
     }
 
     /// Whether the scene is traced through a BVH under `mode`: `Auto`

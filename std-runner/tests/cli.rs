@@ -493,7 +493,7 @@ fn bench_writes_a_table_and_json() {
     assert!(
         out.contains("ratios")
             && out.contains("goals")
-            && (out.contains("PASS") || out.contains("FAIL")),
+            && (out.contains("PASS") || out.contains("FAIL") || out.contains("not judged")),
         "{out}"
     );
     let text = String::from_utf8(bytes(&dir.path().join("b.json"))).unwrap();
@@ -520,7 +520,10 @@ fn bench_writes_a_table_and_json() {
             .collect()
     };
     assert!(names("ratios").contains(&"render/cover 2 threads / 1 thread".to_string()));
-    assert!(names("goals").contains(&"closest/cover_camera packet / scalar".to_string()));
+    let packet = "closest/cover_camera packet / scalar";
+    if strata_runner::bench::target(packet, strata::trace::simd_level()).is_some() {
+        assert!(names("goals").contains(&packet.to_string()));
+    }
     assert!(names("goals").contains(&"render/week09 2 threads / 1 thread".to_string()));
     // A refused run leaves an existing report alone.
     let before = bytes(&dir.path().join("b.json"));

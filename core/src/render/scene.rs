@@ -5,7 +5,8 @@ use glam::Vec3;
 
 use super::material::{Material, MaterialError};
 use crate::trace::{
-    Bvh, Hit, HitPacket8, Ray, RayPacket8, Sphere, SphereSet, any_hit_1x8, closest_hit_1x8,
+    Bvh, BvhError, BvhNode8, BvhStorage, Hit, HitPacket8, Ray, RayPacket8, Sphere, SphereChunk8,
+    SphereSet, SphereSetError, any_hit_1x8, bvh_storage_for, chunks_for, closest_hit_1x8,
     closest_hit_x8,
 };
 
@@ -79,6 +80,19 @@ pub enum SceneError {
     },
     /// The light list is not exactly the emissive spheres, in index order.
     Lights,
+    /// [`Scene::build`]: the spheres' 8-wide set could not be built.
+    Set(SphereSetError),
+    /// [`Scene::build`]: the light slice is shorter than the emissive
+    /// spheres.
+    LightStorage {
+        /// Entries needed.
+        needed: usize,
+        /// Entries given.
+        provided: usize,
+    },
+    /// [`Scene::build`]: the BVH could not be built (other than for
+    /// coordinates beyond its range, where the scene is traced without it).
+    Bvh(BvhError),
 }
 
 impl core::fmt::Display for SceneError {
@@ -99,6 +113,12 @@ impl core::fmt::Display for SceneError {
             SceneError::Lights => {
                 f.write_str("the light list is not exactly the emissive spheres, in index order")
             }
+            SceneError::Set(e) => write!(f, "sphere set: {e}"),
+            SceneError::LightStorage { needed, provided } => write!(
+                f,
+                "light storage too small: {needed} entries needed, {provided} given"
+            ),
+            SceneError::Bvh(e) => e.fmt(f),
         }
     }
 }
@@ -108,6 +128,8 @@ impl core::error::Error for SceneError {
     fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
         match self {
             SceneError::Material { error, .. } => Some(error),
+            SceneError::Set(e) => Some(e),
+            SceneError::Bvh(e) => Some(e),
             _ => None,
         }
     }
@@ -159,7 +181,130 @@ pub fn collect_lights(
     Some(n)
 }
 
+/// The slice lengths [`Scene::build`] needs for `n` spheres: one
+/// [`SceneStorage`] field each. Longer slices are fine.
+///
+/// ```
+/// use strata::render::SceneStorageSize;
+/// let size = SceneStorageSize::for_spheres(485, true);
+/// assert_eq!((size.chunks, size.lights), (61, 485));
+/// assert!(size.bvh.is_some_and(|b| b.nodes >= 1));
+/// assert!(SceneStorageSize::for_spheres(4, false).bvh.is_none());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneStorageSize {
+    /// [`SphereChunk8`]s: [`chunks_for`]`(n)`.
+    pub chunks: usize,
+    /// Light indices: `n` (every sphere may emit).
+    pub lights: usize,
+    /// The BVH's slices ([`bvh_storage_for`]`(n)`), if one is wanted.
+    pub bvh: Option<BvhStorage>,
+}
+
+impl SceneStorageSize {
+    /// The sizes for `n` spheres, with room for a BVH if `bvh` (the runner
+    /// asks for one from [`BVH_THRESHOLD`] spheres).
+    #[inline]
+    #[must_use]
+    pub fn for_spheres(n: usize, bvh: bool) -> Self {
+        Self {
+            chunks: chunks_for(n),
+            lights: n,
+            bvh: bvh.then(|| bvh_storage_for(n)),
+        }
+    }
+}
+
+/// The caller's memory a [`Scene`] is built into by [`Scene::build`],
+/// sized by [`SceneStorageSize`]. Empty BVH slices mean no BVH.
+#[derive(Debug)]
+pub struct SceneStorage<'a> {
+    /// The spheres as 8-wide chunks.
+    pub chunks: &'a mut [SphereChunk8],
+    /// The emissive spheres' indices.
+    pub lights: &'a mut [u32],
+    /// BVH nodes (empty: no BVH).
+    pub bvh_nodes: &'a mut [BvhNode8],
+    /// BVH sphere lanes.
+    pub bvh_lanes: &'a mut [f32],
+    /// BVH sphere indices.
+    pub bvh_ids: &'a mut [u32],
+}
+
 impl<'a> Scene<'a> {
+    /// Builds a scene into the caller's `storage`: the 8-wide sphere set,
+    /// the light list, and, if `storage` has BVH slices, a BVH (traced
+    /// without it where a sphere lies beyond the BVH's coordinate range:
+    /// brute force gives the same hits). Then checks it as [`Scene::new`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::{Background, Material, Scene, SceneStorage, SceneStorageSize, Texture};
+    /// use strata::trace::{BvhNode8, Ray, Sphere, SphereChunk8};
+    /// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
+    /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) }];
+    /// let size = SceneStorageSize::for_spheres(spheres.len(), false);
+    /// let mut chunks = [SphereChunk8::EMPTY; 1];
+    /// let mut lights = [0u32; 1];
+    /// assert_eq!((size.chunks, size.lights), (chunks.len(), lights.len()));
+    /// let storage = SceneStorage {
+    ///     chunks: &mut chunks,
+    ///     lights: &mut lights,
+    ///     bvh_nodes: &mut [],
+    ///     bvh_lanes: &mut [],
+    ///     bvh_ids: &mut [],
+    /// };
+    /// let scene = Scene::build(&spheres, &materials, &[0], Background::Sky, storage).unwrap();
+    /// let hit = scene.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
+    /// assert_eq!((hit.sphere, hit.t), (0, 2.0));
+    /// assert!(!scene.has_bvh());
+    /// ```
+    #[inline]
+    pub fn build(
+        spheres: &'a [Sphere],
+        materials: &'a [Material<'a>],
+        sphere_material: &'a [u32],
+        background: Background,
+        storage: SceneStorage<'a>,
+    ) -> Result<Self, SceneError> {
+        let SceneStorage {
+            chunks,
+            lights,
+            bvh_nodes,
+            bvh_lanes,
+            bvh_ids,
+        } = storage;
+        let set = SphereSet::build(spheres, chunks).map_err(SceneError::Set)?;
+        let provided = lights.len();
+        let n = collect_lights(materials, sphere_material, lights).ok_or_else(|| {
+            // Either a material index is out of range or the slice is short.
+            match sphere_material
+                .iter()
+                .position(|&m| m as usize >= materials.len())
+            {
+                Some(sphere) => SceneError::MaterialIndex { sphere },
+                None => SceneError::LightStorage {
+                    needed: sphere_material
+                        .iter()
+                        .filter(|&&m| materials[m as usize].is_light())
+                        .count(),
+                    provided,
+                },
+            }
+        })?;
+        let lights: &'a [u32] = lights;
+        let lights = &lights[..n];
+        let scene = Self::new(spheres, set, materials, sphere_material, lights, background)?;
+        if bvh_nodes.is_empty() {
+            return Ok(scene);
+        }
+        match Bvh::build(spheres, bvh_nodes, bvh_lanes, bvh_ids) {
+            Ok(bvh) => scene.with_bvh(bvh),
+            Err(BvhError::SphereOutOfRange { .. }) => Ok(scene),
+            Err(e) => Err(SceneError::Bvh(e)),
+        }
+    }
+
     /// Checks and assembles a scene. `set` must be built from `spheres`.
     #[inline]
     pub fn new(
@@ -292,5 +437,120 @@ impl<'a> Scene<'a> {
     #[must_use]
     pub fn background(&self) -> Background {
         self.background
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::Texture;
+
+    const GREY: Material<'static> = Material::Lambertian {
+        albedo: Texture::Solid(Vec3::splat(0.5)),
+    };
+    const LAMP: Material<'static> = Material::DiffuseLight {
+        emit: Vec3::splat(4.0),
+    };
+
+    fn spheres(n: usize) -> [Sphere; 20] {
+        core::array::from_fn(|i| {
+            let r = if i < n { 0.4 } else { 1.0 };
+            Sphere::new(Vec3::new(i as f32, 0.0, -5.0), r)
+        })
+    }
+
+    #[test]
+    fn build_collects_lights_and_attaches_a_bvh() {
+        let s = spheres(20);
+        let materials = [GREY, LAMP];
+        let sphere_material: [u32; 20] = core::array::from_fn(|i| (i % 7 == 3) as u32);
+        let mut chunks = [SphereChunk8::EMPTY; 3];
+        let mut lights = [u32::MAX; 20];
+        let size = bvh_storage_for(20);
+        let mut nodes = [BvhNode8::EMPTY; 8];
+        let mut lanes = [0.0f32; 128];
+        let mut ids = [0u32; 32];
+        assert!(size.nodes <= 8 && size.lanes <= 128 && size.ids <= 32);
+        let storage = SceneStorage {
+            chunks: &mut chunks,
+            lights: &mut lights,
+            bvh_nodes: &mut nodes,
+            bvh_lanes: &mut lanes,
+            bvh_ids: &mut ids,
+        };
+        let scene =
+            Scene::build(&s, &materials, &sphere_material, Background::Sky, storage).unwrap();
+        assert_eq!(scene.lights(), &[3, 10, 17]);
+        assert!(scene.has_bvh());
+        let ray = Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::Z);
+        assert_eq!(scene.closest_hit(&ray).map(|h| h.sphere), Some(5));
+    }
+
+    #[test]
+    fn build_refuses_short_storage_and_missing_materials() {
+        let s = spheres(9);
+        let s = &s[..9];
+        let lamps = [LAMP; 9];
+        let ids = [0u32; 9];
+        let build = |chunks: &mut [SphereChunk8], lights: &mut [u32], material: &[u32]| {
+            let storage = SceneStorage {
+                chunks,
+                lights,
+                bvh_nodes: &mut [],
+                bvh_lanes: &mut [],
+                bvh_ids: &mut [],
+            };
+            Scene::build(s, &lamps, material, Background::Sky, storage).map(|_| ())
+        };
+        let mut chunks = [SphereChunk8::EMPTY; 2];
+        assert_eq!(
+            build(&mut chunks[..1], &mut [0; 9], &ids),
+            Err(SceneError::Set(SphereSetError::StorageTooSmall {
+                needed: 2,
+                provided: 1
+            }))
+        );
+        assert_eq!(
+            build(&mut chunks, &mut [0; 4], &ids),
+            Err(SceneError::LightStorage {
+                needed: 9,
+                provided: 4
+            })
+        );
+        let mut bad = ids;
+        bad[6] = 9;
+        assert_eq!(
+            build(&mut chunks, &mut [0; 9], &bad),
+            Err(SceneError::MaterialIndex { sphere: 6 })
+        );
+        assert_eq!(build(&mut chunks, &mut [0; 9], &ids), Ok(()));
+    }
+
+    /// A sphere beyond the BVH's coordinate range: the scene is traced
+    /// without a BVH (the same hits), not refused.
+    #[test]
+    fn build_without_a_bvh_where_its_range_ends() {
+        let s = [
+            Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0),
+            Sphere::new(Vec3::new(1.0e19, 0.0, 0.0), 1.0),
+        ];
+        let mut chunks = [SphereChunk8::EMPTY; 1];
+        let mut lights = [0u32; 2];
+        let size = bvh_storage_for(2);
+        let mut nodes = [BvhNode8::EMPTY; 4];
+        let mut lanes = [0.0f32; 64];
+        let mut ids = [0u32; 16];
+        assert!(size.nodes <= 4 && size.lanes <= 64 && size.ids <= 16);
+        let storage = SceneStorage {
+            chunks: &mut chunks,
+            lights: &mut lights,
+            bvh_nodes: &mut nodes,
+            bvh_lanes: &mut lanes,
+            bvh_ids: &mut ids,
+        };
+        let scene = Scene::build(&s, &[GREY], &[0, 0], Background::Sky, storage).unwrap();
+        assert!(!scene.has_bvh());
+        let hit = scene.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
+        assert_eq!((hit.sphere, hit.t), (0, 2.0));
     }
 }
