@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use strata::render::{Adaptive, PixelFilter, PixelSum, Tile};
 use strata_runner::film_file::{Film, RenderKey, merge};
-use strata_runner::render::{Job, SamplerKind, run, whole};
+use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{BvhMode, SceneData, built_in};
 
 fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'_> {
@@ -14,7 +14,7 @@ fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'
         scene,
         width,
         height,
-        window: whole(width, height),
+        window: Tile::whole(width, height),
         spp,
         samples: 0..spp,
         max_depth: 5,
@@ -154,7 +154,7 @@ fn adaptive_jobs_refuse_sample_runs_and_the_grid() {
                 &camera,
                 &strata::Independent::new(8, 0).unwrap(),
                 &settings,
-                whole(8, 4),
+                Tile::whole(8, 4),
                 Adaptive::new(4, 16, 0.05).unwrap(),
                 &mut film,
             )

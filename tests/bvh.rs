@@ -347,7 +347,7 @@ fn builds_are_deterministic() {
 /// threads.
 #[test]
 fn renders_are_identical_with_and_without_the_bvh() {
-    use strata_runner::render::{Job, SamplerKind, run, whole};
+    use strata_runner::render::{Job, SamplerKind, run};
     use strata_runner::scenes::{BUILT_IN, BvhMode, built_in};
     for name in BUILT_IN {
         let scene = built_in(name).unwrap();
@@ -356,7 +356,7 @@ fn renders_are_identical_with_and_without_the_bvh() {
                 scene: &scene,
                 width: 64,
                 height: 36,
-                window: whole(64, 36),
+                window: strata::render::Tile::whole(64, 36),
                 spp: 4,
                 samples: 0..4,
                 max_depth: 50,

@@ -136,7 +136,7 @@ fn allocations_do_not_grow_with_samples() {
                 scene: &scene,
                 width: 48,
                 height: 27,
-                window: strata_runner::render::whole(48, 27),
+                window: strata::render::Tile::whole(48, 27),
                 spp,
                 samples: 0..spp,
                 max_depth: 8,

@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 use strata::render::{PixelFilter, Texture, TextureFilter};
 use strata::rng::{Pcg32, STREAM, next_f32};
-use strata_runner::render::{Job, SamplerKind, run, whole};
+use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{BvhMode, SceneData, built_in};
 use strata_runner::study::rmse;
 
@@ -73,7 +73,7 @@ fn job(scene: &SceneData, w: u32, h: u32, sampler: SamplerKind, spp: u32, seed: 
         scene,
         width: w,
         height: h,
-        window: whole(w, h),
+        window: strata::render::Tile::whole(w, h),
         spp,
         samples: 0..spp,
         max_depth: 2,

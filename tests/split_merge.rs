@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use proptest::prelude::*;
 use strata::render::{PixelSum, Tile};
 use strata_runner::film_file::{Film, RenderKey, merge};
-use strata_runner::render::{Job, SamplerKind, run, whole};
+use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{BvhMode, SceneData, built_in};
 
 const W: u32 = 19;
@@ -54,7 +54,7 @@ fn film(j: &Job<'_>) -> Film {
 /// Guillotine cuts of the image driven by `cuts`: each value picks a
 /// rectangle, an axis and a position.
 fn rectangles(cuts: &[u32]) -> Vec<Tile> {
-    let mut rects = vec![whole(W, H)];
+    let mut rects = vec![Tile::whole(W, H)];
     for &v in cuts {
         let k = v as usize % rects.len();
         let r = rects[k];
@@ -113,7 +113,7 @@ proptest! {
         let data = built_in(scene).unwrap();
         // Every case checks every sampler on the same partition.
         for sampler in SamplerKind::ALL {
-        let one_shot = film(&job(&data, sampler, seed, whole(W, H), 0..SPP));
+        let one_shot = film(&job(&data, sampler, seed, Tile::whole(W, H), 0..SPP));
         let mut parts = vec![];
         for (i, rect) in rectangles(&cuts).into_iter().enumerate() {
             for samples in sample_runs(&sample_points[i % sample_points.len()]) {

@@ -375,7 +375,7 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
         scene: &scene,
         width,
         height,
-        window: crate::render::whole(width, height),
+        window: Tile::whole(width, height),
         max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
         threads: args.threads as usize,
         texture_filter: args.texture_filter.filter(),
@@ -911,7 +911,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let window = match (args.crop, args.pixel_bounds) {
         (Some(c), _) => crop_to_window(c, width, height)?,
         (None, Some(b)) => window_of(b, width, height)?,
-        (None, None) => crate::render::whole(width, height),
+        (None, None) => Tile::whole(width, height),
     };
     let filter = args.filter.filter(args.filter_radius)?;
     let samples = args.samples.clone().unwrap_or(0..spp);
@@ -988,7 +988,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
 
     let secs = rendered.wall.as_secs_f64();
     let st = rendered.stats;
-    let part = if window == crate::render::whole(width, height) && samples == (0..spp) {
+    let part = if window == Tile::whole(width, height) && samples == (0..spp) {
         String::new()
     } else {
         format!(

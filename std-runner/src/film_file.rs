@@ -578,7 +578,7 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
     }
     Ok(Film {
         key: first.key.clone(),
-        window: crate::render::whole(w, h),
+        window: Tile::whole(w, h),
         samples: 0..spp,
         pixels,
     })

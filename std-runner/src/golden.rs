@@ -29,7 +29,7 @@ use strata::render::PixelSum;
 use crate::film_file::{Film, RenderKey};
 use crate::hash::Fnv;
 use crate::image_io::Transfer;
-use crate::render::{Job, SamplerKind, run, whole};
+use crate::render::{Job, SamplerKind, run};
 use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
 
 /// Image size of a golden render.
@@ -247,7 +247,7 @@ pub fn job(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Job<'_> {
         scene,
         width,
         height,
-        window: whole(width, height),
+        window: strata::render::Tile::whole(width, height),
         spp: SPP,
         samples: 0..SPP,
         max_depth: MAX_DEPTH,

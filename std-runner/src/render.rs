@@ -94,17 +94,6 @@ pub struct Job<'a> {
     pub texture_filter: strata::render::TextureFilter,
 }
 
-/// The window of every pixel of a `width × height` image.
-#[must_use]
-pub fn whole(width: u32, height: u32) -> Tile {
-    Tile {
-        x0: 0,
-        y0: 0,
-        width,
-        height,
-    }
-}
-
 /// A finished render.
 #[derive(Debug)]
 pub struct Rendered {
@@ -283,7 +272,7 @@ mod tests {
         for (w, h, s) in [(320, 180, 32), (7, 5, 3), (1, 1, 64), (100, 3, 7)] {
             // The whole image, and a window inside a larger one.
             for window in [
-                whole(w, h),
+                Tile::whole(w, h),
                 Tile {
                     x0: 5,
                     y0: 2,

@@ -96,6 +96,24 @@ pub struct Tile {
 }
 
 impl Tile {
+    /// The whole `width × height` image as one tile.
+    ///
+    /// ```
+    /// use strata::render::Tile;
+    /// let t = Tile::whole(320, 180);
+    /// assert_eq!((t.x0, t.y0, t.area()), (0, 0, 320 * 180));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub const fn whole(width: u32, height: u32) -> Tile {
+        Tile {
+            x0: 0,
+            y0: 0,
+            width,
+            height,
+        }
+    }
+
     /// Pixels in the tile.
     #[inline]
     #[must_use]
