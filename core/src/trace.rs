@@ -75,7 +75,7 @@ mod packet;
 
 pub use bvh::{
     BVH_LEAF_MAX, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SAH_DEPTH,
-    BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStorage, bvh_storage_for,
+    BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStack, BvhStorage, bvh_storage_for,
 };
 use lanes::Lanes;
 pub use packet::{

@@ -55,7 +55,7 @@ use crate::filter::PixelFilter;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
 use crate::onb::Onb;
 use crate::sampler::Sampler;
-use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, intersect_sphere};
+use crate::trace::{BvhStack, Hit, HitPacket8, Ray, RayPacket8, intersect_sphere};
 
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -251,17 +251,34 @@ fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
     }
 }
 
+/// What one thread's tracing reuses and counts: the BVH traversal stack
+/// (cleared once, not per ray) and the tile's statistics.
+struct Scratch {
+    stack: BvhStack,
+    stats: TileStats,
+}
+
+impl Scratch {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            stack: BvhStack::new(),
+            stats: TileStats::default(),
+        }
+    }
+}
+
 /// Direct light at a smooth vertex from one light chosen by `u_choice`,
 /// towards a direction drawn by `u_dir`; MIS-weighted against the BSDF.
 #[inline]
 fn direct_light(
     scene: &Scene<'_>,
+    scratch: &mut Scratch,
     ray: &Ray,
     hit: Hit,
     surf: &SurfaceHit,
     u_choice: f32,
     u_dir: Vec2,
-    stats: &mut TileStats,
 ) -> Vec3 {
     let lights = scene.lights();
     let k = ((u_choice * lights.len() as f32) as usize).min(lights.len() - 1);
@@ -284,8 +301,8 @@ fn direct_light(
     let Some(t_light) = intersect_sphere(&shadow, &light) else {
         return Vec3::ZERO; // grazed the rim by rounding
     };
-    stats.shadow_rays += 1;
-    if scene.any_hit(&shadow.with_range(0.0, t_light)) {
+    scratch.stats.shadow_rays += 1;
+    if scene.any_hit_with(&shadow.with_range(0.0, t_light), &mut scratch.stack) {
         return Vec3::ZERO;
     }
     let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
@@ -300,12 +317,12 @@ fn direct_light(
 #[inline(always)]
 fn trace_path<S: Sampler>(
     scene: &Scene<'_>,
+    scratch: &mut Scratch,
     sampler: &mut S,
     settings: &RenderSettings,
     mut ray: Ray,
     first: Option<Hit>,
     diff: Option<[Ray; 2]>,
-    stats: &mut TileStats,
 ) -> Vec3 {
     let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
@@ -314,11 +331,11 @@ fn trace_path<S: Sampler>(
     let mut last_smooth: Option<(Vec3, f32)> = None;
     let nee = settings.direct_lighting && !scene.lights().is_empty();
     let mut hit = first;
-    stats.paths += 1;
+    scratch.stats.paths += 1;
     for segment in 1..=settings.max_depth {
-        stats.rays += 1;
+        scratch.stats.rays += 1;
         if segment > 1 {
-            hit = scene.closest_hit(&ray);
+            hit = scene.closest_hit_with(&ray, &mut scratch.stack);
         }
         let Some(h) = hit else {
             radiance += throughput * scene.background().radiance(ray.dir);
@@ -349,7 +366,8 @@ fn trace_path<S: Sampler>(
         let u_choice = sampler.next_1d();
         let u_light = sampler.next_2d();
         if nee && material.is_smooth() {
-            radiance += throughput * direct_light(scene, &ray, h, &surf, u_choice, u_light, stats);
+            radiance +=
+                throughput * direct_light(scene, scratch, &ray, h, &surf, u_choice, u_light);
         }
         let Some(s) = material.sample(ray.dir, &surf, u_scatter, u_lobe) else {
             break;
@@ -466,16 +484,9 @@ pub fn pixel_sample<S: Sampler>(
 ) -> (Vec3, f32) {
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     let c = camera_ray(camera, &settings.filter, spacing, sampler, pixel, index);
-    let first = scene.closest_hit(&c.ray);
-    let l = trace_path(
-        scene,
-        sampler,
-        settings,
-        c.ray,
-        first,
-        c.diff,
-        &mut TileStats::default(),
-    );
+    let mut scratch = Scratch::new();
+    let first = scene.closest_hit_with(&c.ray, &mut scratch.stack);
+    let l = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, c.diff);
     (l, c.weight)
 }
 
@@ -513,6 +524,8 @@ fn check_tile(
 /// pixel `first + (l, 0)`, with its sampler and its film entry.
 struct Group<'a, 's, S> {
     scene: &'a Scene<'s>,
+    /// The tile's traversal stack and counts.
+    scratch: &'a mut Scratch,
     camera: &'a Camera,
     settings: &'a RenderSettings,
     first: UVec2,
@@ -528,13 +541,7 @@ impl<S: Sampler> Group<'_, '_, S> {
     /// packet costs as much as eight), and adds each value to its pixel and, when
     /// sampling adaptively, to its error statistics.
     #[inline(always)]
-    fn trace(
-        &mut self,
-        ids: &[usize],
-        index: u32,
-        mut errors: Option<&mut [PixelError; 8]>,
-        stats: &mut TileStats,
-    ) {
+    fn trace(&mut self, ids: &[usize], index: u32, mut errors: Option<&mut [PixelError; 8]>) {
         let (scene, camera, settings) = (self.scene, self.camera, self.settings);
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
         let mut weights = [0.0f32; 8];
@@ -557,24 +564,28 @@ impl<S: Sampler> Group<'_, '_, S> {
         let mut first = [None; 8];
         if ids.len() > 2 {
             let mut hits = HitPacket8::NONE;
-            scene.closest_hit_x8(&RayPacket8::from_rays(&rays[..ids.len()]), &mut hits);
+            scene.closest_hit_x8_with(
+                &RayPacket8::from_rays(&rays[..ids.len()]),
+                &mut hits,
+                &mut self.scratch.stack,
+            );
             for (k, f) in first.iter_mut().enumerate().take(ids.len()) {
                 *f = hits.hit(k);
             }
         } else {
             for (f, r) in first.iter_mut().zip(&rays[..ids.len()]) {
-                *f = scene.closest_hit(r);
+                *f = scene.closest_hit_with(r, &mut self.scratch.stack);
             }
         }
         for (k, &l) in ids.iter().enumerate() {
             let v = trace_path(
                 scene,
+                self.scratch,
                 &mut self.lanes[l],
                 settings,
                 rays[k],
                 first[k],
                 diffs[k],
-                stats,
             );
             self.film[l].add_weighted(v, weights[k]);
             if let Some(e) = errors.as_deref_mut() {
@@ -605,19 +616,25 @@ pub fn render_tile<S: Sampler + Clone>(
     film: &mut [PixelSum],
 ) -> Result<TileStats, RenderError> {
     check_tile(camera, settings, tile, film.len())?;
-    let mut stats = TileStats::default();
     const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-    for_each_group(scene, camera, sampler, settings, tile, film, |group, n| {
-        for index in samples.clone() {
-            group.trace(&ALL[..n], index, None, &mut stats);
-        }
-    });
-    Ok(stats)
+    Ok(for_each_group(
+        scene,
+        camera,
+        sampler,
+        settings,
+        tile,
+        film,
+        |group, n| {
+            for index in samples.clone() {
+                group.trace(&ALL[..n], index, None);
+            }
+        },
+    ))
 }
 
 /// Calls `f` with each group of up to 8 neighbouring pixels of `tile`,
 /// row by row, and its lane count; each group's film entries are its
-/// slice of `film` (row-major over the tile).
+/// slice of `film` (row-major over the tile). Returns what was traced.
 #[inline(always)]
 fn for_each_group<S: Sampler + Clone>(
     scene: &Scene<'_>,
@@ -627,8 +644,10 @@ fn for_each_group<S: Sampler + Clone>(
     tile: Tile,
     film: &mut [PixelSum],
     mut f: impl FnMut(&mut Group<'_, '_, S>, usize),
-) {
+) -> TileStats {
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
+    // Zeroed once per tile, not per ray.
+    let mut scratch = Scratch::new();
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     for row in 0..tile.height {
         let mut col = 0;
@@ -637,6 +656,7 @@ fn for_each_group<S: Sampler + Clone>(
             let at = (row * tile.width + col) as usize;
             let mut group = Group {
                 scene,
+                scratch: &mut scratch,
                 camera,
                 settings,
                 first: UVec2::new(tile.x0 + col, tile.y0 + row),
@@ -648,6 +668,7 @@ fn for_each_group<S: Sampler + Clone>(
             col += n as u32;
         }
     }
+    scratch.stats
 }
 
 /// Renders every pixel of `tile` adaptively and adds the samples to
@@ -714,31 +735,37 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             max: adaptive.max(),
         });
     }
-    let mut stats = TileStats::default();
-    for_each_group(scene, camera, sampler, settings, tile, film, |group, n| {
-        let mut errors = [PixelError::ZERO; 8];
-        // Every active lane has taken the same samples, so one batch
-        // serves them all and their camera rays stay one packet.
-        let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
-        let mut active = n;
-        let mut taken = 0;
-        loop {
-            for index in adaptive.next_batch(taken) {
-                group.trace(&ids[..active], index, Some(&mut errors), &mut stats);
-            }
-            taken = adaptive.next_batch(taken).end;
-            let mut kept = 0;
-            for k in 0..active {
-                if adaptive.wants_more(taken, &errors[ids[k]]) {
-                    ids[kept] = ids[k];
-                    kept += 1;
+    Ok(for_each_group(
+        scene,
+        camera,
+        sampler,
+        settings,
+        tile,
+        film,
+        |group, n| {
+            let mut errors = [PixelError::ZERO; 8];
+            // Every active lane has taken the same samples, so one batch
+            // serves them all and their camera rays stay one packet.
+            let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
+            let mut active = n;
+            let mut taken = 0;
+            loop {
+                for index in adaptive.next_batch(taken) {
+                    group.trace(&ids[..active], index, Some(&mut errors));
+                }
+                taken = adaptive.next_batch(taken).end;
+                let mut kept = 0;
+                for k in 0..active {
+                    if adaptive.wants_more(taken, &errors[ids[k]]) {
+                        ids[kept] = ids[k];
+                        kept += 1;
+                    }
+                }
+                active = kept;
+                if active == 0 {
+                    break;
                 }
             }
-            active = kept;
-            if active == 0 {
-                break;
-            }
-        }
-    });
-    Ok(stats)
+        },
+    ))
 }

@@ -5,9 +5,9 @@ use glam::Vec3;
 
 use super::material::{Material, MaterialError};
 use crate::trace::{
-    Bvh, BvhError, BvhNode8, BvhStorage, Hit, HitPacket8, Ray, RayPacket8, Sphere, SphereChunk8,
-    SphereSet, SphereSetError, any_hit_1x8, bvh_storage_for, chunks_for, closest_hit_1x8,
-    closest_hit_x8,
+    Bvh, BvhError, BvhNode8, BvhStack, BvhStorage, Hit, HitPacket8, Ray, RayPacket8, Sphere,
+    SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, bvh_storage_for, chunks_for,
+    closest_hit_1x8, closest_hit_x8,
 };
 
 /// The sphere count from which a BVH pays for itself: below it the
@@ -374,12 +374,20 @@ impl<'a> Scene<'a> {
         self.bvh.is_some()
     }
 
-    /// The closest hit of `ray` (through the BVH if attached).
+    /// The closest hit of `ray` (through the BVH if attached). In a loop,
+    /// prefer [`Scene::closest_hit_with`] and one [`BvhStack`].
     #[inline]
     #[must_use]
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        self.closest_hit_with(ray, &mut BvhStack::new())
+    }
+
+    /// [`Scene::closest_hit`] on the caller's reusable traversal `stack`.
+    #[inline]
+    #[must_use]
+    pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
         match &self.bvh {
-            Some(b) => b.closest_hit(ray),
+            Some(b) => b.closest_hit_with(ray, stack),
             None => closest_hit_1x8(ray, &self.set),
         }
     }
@@ -388,8 +396,15 @@ impl<'a> Scene<'a> {
     #[inline]
     #[must_use]
     pub fn any_hit(&self, ray: &Ray) -> bool {
+        self.any_hit_with(ray, &mut BvhStack::new())
+    }
+
+    /// [`Scene::any_hit`] on the caller's reusable traversal `stack`.
+    #[inline]
+    #[must_use]
+    pub fn any_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> bool {
         match &self.bvh {
-            Some(b) => b.any_hit(ray),
+            Some(b) => b.any_hit_with(ray, stack),
             None => any_hit_1x8(ray, &self.set),
         }
     }
@@ -398,8 +413,19 @@ impl<'a> Scene<'a> {
     /// if attached).
     #[inline]
     pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8) {
+        self.closest_hit_x8_with(packet, hits, &mut BvhStack::new());
+    }
+
+    /// [`Scene::closest_hit_x8`] on the caller's reusable traversal `stack`.
+    #[inline]
+    pub fn closest_hit_x8_with(
+        &self,
+        packet: &RayPacket8,
+        hits: &mut HitPacket8,
+        stack: &mut BvhStack,
+    ) {
         match &self.bvh {
-            Some(b) => b.closest_hit_x8(packet, hits, PACKET_FALLBACK),
+            Some(b) => b.closest_hit_x8_with(packet, hits, PACKET_FALLBACK, stack),
             None => closest_hit_x8(packet, &self.set, hits),
         }
     }

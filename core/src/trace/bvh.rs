@@ -86,6 +86,56 @@ pub const BVH_MAX_COORDINATE: f32 = 1.152_921_5e18;
 /// one, so `7 ·` [`BVH_MAX_DEPTH`] `+ 1` suffice.
 const STACK: usize = 7 * BVH_MAX_DEPTH as usize + 1;
 
+/// Reusable traversal memory for [`Bvh`] queries: keep one per thread (or
+/// per tile) and pass it to the `_with` queries. It is zeroed once, when
+/// made; queries only read entries they wrote, so it is never cleared
+/// again (the queries without `_with` make a fresh one per call, which
+/// costs a 3.6 KB clear each time).
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Bvh, BvhNode8, BvhStack, Ray, Sphere, bvh_storage_for};
+/// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
+/// let size = bvh_storage_for(1);
+/// let (mut nodes, mut lanes, mut ids) =
+///     (vec![BvhNode8::EMPTY; size.nodes], vec![0.0; size.lanes], vec![0; size.ids]);
+/// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+/// let mut stack = BvhStack::new();
+/// let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+/// assert_eq!(bvh.closest_hit_with(&ray, &mut stack).map(|h| h.t), Some(2.0));
+/// assert!(bvh.any_hit_with(&ray, &mut stack));
+/// ```
+#[derive(Clone, Debug)]
+pub struct BvhStack {
+    /// Closest-hit traversal of one ray: (child, entry distance).
+    closest: [(u32, f32); STACK],
+    /// Any-hit traversal of one ray.
+    any: [u32; STACK],
+    /// Packet traversal: (child, lanes that enter it).
+    packet: [(u32, u8); STACK],
+}
+
+impl BvhStack {
+    /// A stack for every query of any [`Bvh`] (its size covers
+    /// [`BVH_MAX_DEPTH`]).
+    #[inline]
+    #[must_use]
+    pub const fn new() -> Self {
+        Self {
+            closest: [(0, 0.0); STACK],
+            any: [0; STACK],
+            packet: [(0, 0); STACK],
+        }
+    }
+}
+
+impl Default for BvhStack {
+    #[inline]
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// Child references: bit 31 marks a leaf, whose lane start is in bits
 /// 3–29 and count − 1 in bits 0–2; otherwise the node index.
 const LEAF_BIT: u32 = 1 << 31;
@@ -730,16 +780,28 @@ impl<'a> Bvh<'a> {
     #[must_use]
     #[inline]
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        self.closest_hit_with(ray, &mut BvhStack::new())
+    }
+
+    /// [`Bvh::closest_hit`] on the caller's reusable `stack`.
+    #[must_use]
+    #[inline]
+    pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.closest_from(0, ray, &mut best);
+        self.closest_from(0, ray, &mut best, &mut stack.closest);
         best
     }
 
     /// Closest-hit traversal of the subtree at `root` (a node index or a
     /// leaf reference), improving `best`.
-    fn closest_from(&self, root: u32, ray: &Ray, best: &mut Option<Hit>) {
+    fn closest_from(
+        &self,
+        root: u32,
+        ray: &Ray,
+        best: &mut Option<Hit>,
+        stack: &mut [(u32, f32); STACK],
+    ) {
         let slab = SlabRay::new(ray);
-        let mut stack = [(0u32, 0.0f32); STACK];
         stack[0] = (root, f32::NEG_INFINITY);
         let mut sp = 1;
         // The closest t so far (t_max before any hit): children entered
@@ -803,13 +865,16 @@ impl<'a> Bvh<'a> {
     #[must_use]
     #[inline]
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        self.any_from(0, ray)
+        self.any_hit_with(ray, &mut BvhStack::new())
     }
 
-    fn any_from(&self, root: u32, ray: &Ray) -> bool {
+    /// [`Bvh::any_hit`] on the caller's reusable `stack`.
+    #[must_use]
+    #[inline]
+    pub fn any_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> bool {
         let slab = SlabRay::new(ray);
-        let mut stack = [0u32; STACK];
-        stack[0] = root;
+        let stack = &mut stack.any;
+        stack[0] = 0;
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -843,6 +908,23 @@ impl<'a> Bvh<'a> {
     /// [`super::closest_hit_x8`], lane by lane the same bits.
     #[inline]
     pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8, fallback: u32) {
+        self.closest_hit_x8_with(packet, hits, fallback, &mut BvhStack::new());
+    }
+
+    /// [`Bvh::closest_hit_x8`] on the caller's reusable `stack`.
+    #[inline]
+    pub fn closest_hit_x8_with(
+        &self,
+        packet: &RayPacket8,
+        hits: &mut HitPacket8,
+        fallback: u32,
+        stack: &mut BvhStack,
+    ) {
+        let BvhStack {
+            closest: single,
+            packet: stack,
+            ..
+        } = stack;
         let active = packet.active_bits();
         if active == 0 {
             return;
@@ -858,7 +940,6 @@ impl<'a> Bvh<'a> {
         let slab_lo = [lo[0] + s, lo[1] + s, lo[2] + s];
         let slab_hi = [lo[0] - s, lo[1] - s, lo[2] - s];
         let inv = [inv8(packet.dx), inv8(packet.dy), inv8(packet.dz)];
-        let mut stack = [(0u32, 0u8); STACK];
         stack[0] = (0, active as u8);
         let mut sp = 1;
         while sp > 0 {
@@ -876,7 +957,7 @@ impl<'a> Bvh<'a> {
                         t: ts[lane],
                         sphere: is[lane] as u32,
                     });
-                    self.closest_from(entry, &rays[lane], &mut best);
+                    self.closest_from(entry, &rays[lane], &mut best, single);
                     if let Some(h) = best {
                         (ts[lane], is[lane]) = (h.t, h.sphere as i32);
                     }
@@ -967,12 +1048,13 @@ impl<'a> Bvh<'a> {
     #[must_use]
     #[inline]
     pub fn any_hit_x8(&self, packet: &RayPacket8) -> u32 {
+        let mut stack = BvhStack::new();
         let mut out = 0;
         let mut m = packet.active_bits();
         while m != 0 {
             let lane = m.trailing_zeros();
             m &= m - 1;
-            if self.any_hit(&packet.ray(lane as usize)) {
+            if self.any_hit_with(&packet.ray(lane as usize), &mut stack) {
                 out |= 1 << lane;
             }
         }
