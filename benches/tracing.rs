@@ -34,10 +34,7 @@ fn intersect(c: &mut Criterion) {
                 .map(|p| {
                     let mut hits = HitPacket8::NONE;
                     closest_hit_x8(black_box(p), &set, &mut hits);
-                    hits.t
-                        .simd_lt(wide::f32x8::splat(f32::INFINITY))
-                        .to_bitmask()
-                        .count_ones() as usize
+                    hits.hit_bits().count_ones() as usize
                 })
                 .sum::<usize>()
         };
@@ -152,7 +149,7 @@ fn bvh(c: &mut Criterion) {
                 packets.iter().fold(0i64, |a, p| {
                     let mut h = HitPacket8::NONE;
                     tree.closest_hit_x8(black_box(p), &mut h, 2);
-                    a + h.sphere.to_array()[0] as i64
+                    a + h.spheres()[0] as i64
                 })
             })
         });

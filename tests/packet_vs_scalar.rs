@@ -158,19 +158,15 @@ fn inactive_lanes_are_untouched() {
     let rays = [Ray::new(Vec3::ZERO, -Vec3::Z); 8];
     let packet = RayPacket8::from_rays(&rays).with_active_bits(0b111);
     assert_eq!(packet.active_bits(), 0b111);
-    let sentinel_t = wide::f32x8::new([9.0, 9.0, 9.0, 7.0, 6.0, 5.0, 4.0, 3.0]);
-    let sentinel_i = wide::i32x8::new([-1, -1, -1, 40, 41, 42, 43, 44]);
-    let mut hits = HitPacket8 {
-        t: sentinel_t,
-        sphere: sentinel_i,
-    };
+    let sentinel_t = [9.0, 9.0, 9.0, 7.0, 6.0, 5.0, 4.0, 3.0];
+    let sentinel_i = [-1, -1, -1, 40, 41, 42, 43, 44];
+    let mut hits = HitPacket8::new(sentinel_t, sentinel_i);
     closest_hit_x8(&packet, &set, &mut hits);
-    let t = hits.t.to_array();
-    let i = hits.sphere.to_array();
+    let (t, i) = (hits.t(), hits.spheres());
     assert_eq!(&t[..3], &[2.0; 3]);
     assert_eq!(&i[..3], &[0; 3]);
-    assert_eq!(&t[3..], &sentinel_t.to_array()[3..]);
-    assert_eq!(&i[3..], &sentinel_i.to_array()[3..]);
+    assert_eq!(&t[3..], &sentinel_t[3..]);
+    assert_eq!(&i[3..], &sentinel_i[3..]);
     assert_eq!(any_hit_x8(&packet, &set), 0b111);
     // An all-inactive packet does nothing.
     assert_eq!(any_hit_x8(&RayPacket8::from_rays(&[]), &set), 0);
@@ -224,7 +220,7 @@ fn storage_sizing() {
     assert_eq!(set.sphere(16), Some(spheres[16]));
     assert_eq!(set.sphere(17), None);
     // Padding lanes have radius 0.
-    assert_eq!(set.chunks()[2].r.to_array()[1..], [0.0; 7]);
+    assert!((1..8).all(|k| set.chunks()[2].sphere(k).radius == 0.0));
     // A kept view of built chunks, and what it refuses.
     let view = SphereSet::from_chunks(&big[..3], 17).unwrap();
     assert_eq!(view.sphere(16), Some(spheres[16]));
@@ -236,9 +232,9 @@ fn storage_sizing() {
         }
     );
     let mut corrupt = big[..3].to_vec();
-    let mut r = corrupt[2].r.to_array();
-    r[5] = 1.0;
-    corrupt[2].r = wide::f32x8::new(r);
+    let mut lanes: [Sphere; 8] = core::array::from_fn(|k| corrupt[2].sphere(k));
+    lanes[5].radius = 1.0;
+    corrupt[2] = SphereChunk8::from_spheres(lanes);
     assert_eq!(
         SphereSet::from_chunks(&corrupt, 17).unwrap_err(),
         SphereSetError::Padding

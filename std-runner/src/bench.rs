@@ -544,9 +544,7 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
                         .map(|p| {
                             let mut h = HitPacket8::NONE;
                             closest_hit_x8(p, &set, &mut h);
-                            h.t.simd_lt(wide::f32x8::splat(f32::INFINITY))
-                                .to_bitmask()
-                                .count_ones() as u64
+                            h.hit_bits().count_ones() as u64
                         })
                         .sum()
                 }),
@@ -646,14 +644,14 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
                         tree.closest_hit_x8(p, &mut h, 0);
-                        a.wrapping_add(h.sphere.to_array()[0] as u64)
+                        a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
                 contender("bvh packet, fallback 2", n, || {
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
                         tree.closest_hit_x8(p, &mut h, 2);
-                        a.wrapping_add(h.sphere.to_array()[0] as u64)
+                        a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
             ],

@@ -16,18 +16,31 @@ use wide::{f32x8, i32x8};
 use super::lanes::{Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bools};
 use super::{Hit, Ray, Sphere, sphere_t};
 
-/// Eight spheres as structure of arrays: one `f32x8` per coordinate and
-/// one for the radius. Unused lanes have radius 0 and can never be hit.
+/// Eight spheres as structure of arrays: one 8-lane vector per coordinate
+/// and one for the radius. Unused lanes have radius 0 and can never be
+/// hit. The vectors are private (the SIMD backend is not part of the API);
+/// lanes go in and out as [`Sphere`]s.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Sphere, SphereChunk8};
+/// let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.5);
+/// let mut lanes = [Sphere::new(Vec3::ZERO, 0.0); 8];
+/// lanes[2] = s;
+/// let chunk = SphereChunk8::from_spheres(lanes);
+/// assert_eq!(chunk.sphere(2), s);
+/// assert_eq!(chunk.sphere(0).radius, 0.0); // padding
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct SphereChunk8 {
     /// Centre x of each lane.
-    pub cx: f32x8,
+    pub(crate) cx: f32x8,
     /// Centre y of each lane.
-    pub cy: f32x8,
+    pub(crate) cy: f32x8,
     /// Centre z of each lane.
-    pub cz: f32x8,
+    pub(crate) cz: f32x8,
     /// Radius of each lane; 0 in padding lanes.
-    pub r: f32x8,
+    pub(crate) r: f32x8,
 }
 
 // One chunk is four 32-byte vectors, aligned for 256-bit loads.
@@ -35,6 +48,29 @@ const _: () = assert!(core::mem::size_of::<SphereChunk8>() == 128);
 const _: () = assert!(core::mem::align_of::<SphereChunk8>() >= 16);
 
 impl SphereChunk8 {
+    /// A chunk holding exactly these eight lanes (a lane meant as padding
+    /// must have radius 0; [`SphereSet::from_chunks`] checks that).
+    #[inline]
+    #[must_use]
+    pub fn from_spheres(lanes: [Sphere; 8]) -> Self {
+        let get = |f: fn(&Sphere) -> f32| f32x8::new(lanes.each_ref().map(f));
+        Self {
+            cx: get(|s| s.center.x),
+            cy: get(|s| s.center.y),
+            cz: get(|s| s.center.z),
+            r: get(|s| s.radius),
+        }
+    }
+
+    /// The sphere in `lane` (0–7; taken modulo 8), padding included.
+    #[inline]
+    #[must_use]
+    pub fn sphere(&self, lane: usize) -> Sphere {
+        let l = lane % 8;
+        let g = |v: &f32x8| v.as_array()[l];
+        Sphere::new(Vec3::new(g(&self.cx), g(&self.cy), g(&self.cz)), g(&self.r))
+    }
+
     /// A chunk of eight padding lanes (radius 0: never hit).
     pub const EMPTY: SphereChunk8 = SphereChunk8 {
         cx: f32x8::ZERO,
@@ -302,21 +338,21 @@ pub fn any_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> bool {
 #[derive(Clone, Copy, Debug)]
 pub struct RayPacket8 {
     /// Origin x per lane.
-    pub ox: f32x8,
+    pub(crate) ox: f32x8,
     /// Origin y per lane.
-    pub oy: f32x8,
+    pub(crate) oy: f32x8,
     /// Origin z per lane.
-    pub oz: f32x8,
+    pub(crate) oz: f32x8,
     /// Unit direction x per lane.
-    pub dx: f32x8,
+    pub(crate) dx: f32x8,
     /// Unit direction y per lane.
-    pub dy: f32x8,
+    pub(crate) dy: f32x8,
     /// Unit direction z per lane.
-    pub dz: f32x8,
+    pub(crate) dz: f32x8,
     /// Open interval start per lane.
-    pub t_min: f32x8,
+    pub(crate) t_min: f32x8,
     /// Open interval end per lane.
-    pub t_max: f32x8,
+    pub(crate) t_max: f32x8,
     /// All ones in lanes that carry a ray, zeros elsewhere. Private: a
     /// mask of other bit patterns would select differently per SIMD level.
     active: f32x8,
@@ -391,17 +427,6 @@ impl RayPacket8 {
             ..self
         }
     }
-
-    /// The points `o + t d` of every lane, as x, y, z vectors.
-    #[inline]
-    #[must_use]
-    pub fn points_at(&self, t: f32x8) -> [f32x8; 3] {
-        [
-            self.ox + self.dx * t,
-            self.oy + self.dy * t,
-            self.oz + self.dz * t,
-        ]
-    }
 }
 
 /// The kernel for all eight rays of a packet against sphere `lane` of a
@@ -426,13 +451,24 @@ fn packet_sphere_t(p: &RayPacket8, c: &SphereChunk8, lane: usize) -> f32x8 {
 }
 
 /// Per-lane closest hits of a [`RayPacket8`]: `t` (`+∞` for none) and the
-/// sphere index (−1 for none).
+/// sphere index (−1 for none), read as arrays or lane by lane.
+///
+/// ```
+/// use strata::trace::HitPacket8;
+/// let mut t = [f32::INFINITY; 8];
+/// let mut id = [-1; 8];
+/// (t[3], id[3]) = (2.5, 7);
+/// let hits = HitPacket8::new(t, id);
+/// assert_eq!(hits.hit(3).map(|h| (h.t, h.sphere)), Some((2.5, 7)));
+/// assert_eq!(hits.hit_bits(), 1 << 3);
+/// assert_eq!((hits.t(), hits.spheres()), (t, id));
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct HitPacket8 {
     /// Hit distance per lane, `+∞` where nothing was hit.
-    pub t: f32x8,
+    pub(crate) t: f32x8,
     /// Sphere index per lane, −1 where nothing was hit.
-    pub sphere: i32x8,
+    pub(crate) sphere: i32x8,
 }
 
 impl Default for HitPacket8 {
@@ -448,6 +484,39 @@ impl HitPacket8 {
         t: f32x8::splat(f32::INFINITY),
         sphere: i32x8::splat(-1),
     };
+
+    /// Hits from per-lane distances and sphere indices (`+∞` and −1 for
+    /// none), e.g. to start a query from earlier hits.
+    #[inline]
+    #[must_use]
+    pub fn new(t: [f32; 8], sphere: [i32; 8]) -> Self {
+        Self {
+            t: f32x8::new(t),
+            sphere: i32x8::new(sphere),
+        }
+    }
+
+    /// The hit distance of every lane (`+∞` where nothing was hit).
+    #[inline]
+    #[must_use]
+    pub fn t(&self) -> [f32; 8] {
+        self.t.to_array()
+    }
+
+    /// The sphere index of every lane (−1 where nothing was hit).
+    #[inline]
+    #[must_use]
+    pub fn spheres(&self) -> [i32; 8] {
+        self.sphere.to_array()
+    }
+
+    /// Bit `k` set when lane `k` has a hit ([`HitPacket8::hit`] is
+    /// `Some`).
+    #[inline]
+    #[must_use]
+    pub fn hit_bits(&self) -> u32 {
+        (0..8).fold(0, |bits, k| bits | (self.hit(k).is_some() as u32) << k)
+    }
 
     /// The hit of `lane` (0–7; taken modulo 8), if any.
     #[inline]
