@@ -1,30 +1,21 @@
-//! No allocation inside the per-sample loop, checked two ways with a
-//! counting global allocator (every thread counted):
+//! No allocation per sample in the runner's render loop, checked with a
+//! counting global allocator (every thread counted): a whole render on 2
+//! threads makes no more allocations at 16 samples per pixel than at 1,
+//! up to a margin of 64 for rayon's scheduling-dependent internal buffers
+//! (an allocation per sample would add over 19 000 here).
 //!
-//! 1. `render_tile` on every built-in scene (every material, lights, image
-//!    textures, the 485-sphere cover), with every sampler, direct lighting
-//!    on and off, makes zero allocations.
-//! 2. A whole render through the runner on 2 threads makes no more
-//!    allocations at 16 samples per pixel than at 1, up to a margin of 64
-//!    for rayon's scheduling-dependent internal buffers (an allocation per
-//!    sample would add over 19 000 here).
+//! The core itself cannot allocate: it does not link `alloc` at all
+//! (`#![no_std]` without `extern crate alloc`; the no_std staticlib check
+//! builds it so), so only the runner's loop around it needs this test.
 //!
-//! The counter counts every thread, so the whole check is one test: no
-//! other test may run beside it in this binary.
-//!
-//! Underneath, the core crate does not link `alloc` at all (`#![no_std]`
-//! without `extern crate alloc`; the no_std staticlib check builds it so),
-//! so it has no way to allocate; these tests guard the runner's loop too.
+//! The counter counts every thread, so the whole check is one test in its
+//! own binary: no other test may run beside it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use strata::render::{
-    Adaptive, Camera, PixelSum, RenderSettings, Tile, render_tile, render_tile_adaptive,
-};
-use strata::{Independent, Sampler, Stratified, UniformGrid};
 use strata_runner::render::{Job, SamplerKind, run};
-use strata_runner::scenes::{BUILT_IN, built_in};
+use strata_runner::scenes::built_in;
 
 struct Counting;
 
@@ -58,72 +49,6 @@ fn allocations_in(f: impl FnOnce()) -> usize {
     let before = ALLOCATIONS.load(Ordering::SeqCst);
     f();
     ALLOCATIONS.load(Ordering::SeqCst) - before
-}
-
-fn check<S: Sampler + Clone>(name: &str, sampler: S, direct_lighting: bool) {
-    let data = built_in(name).unwrap();
-    let camera = Camera::new(&data.camera, 64, 36).unwrap();
-    let settings = RenderSettings {
-        max_depth: data.defaults.max_depth,
-        direct_lighting,
-        filter: strata::render::PixelFilter::BOX,
-        texture_filter: strata::render::TextureFilter::None,
-    };
-    let tile = Tile {
-        x0: 8,
-        y0: 4,
-        width: 24,
-        height: 16,
-    };
-    let mut film = vec![PixelSum::ZERO; tile.area()];
-    let (count, stats) = data
-        .with_scene(|scene| {
-            let mut stats = None;
-            let count = allocations_in(|| {
-                stats = Some(render_tile(
-                    scene,
-                    &camera,
-                    &sampler,
-                    &settings,
-                    tile,
-                    0..8,
-                    &mut film,
-                ));
-            });
-            (count, stats.unwrap().unwrap())
-        })
-        .unwrap();
-    assert!(stats.rays > 0);
-    assert_eq!(
-        count, 0,
-        "{name} (direct {direct_lighting}): {count} allocations in {stats:?}"
-    );
-    // The adaptive loop too.
-    let adaptive = Adaptive::new(2, 8, 0.01).unwrap();
-    let mut film = vec![PixelSum::ZERO; tile.area()];
-    let (count, stats) = data
-        .with_scene(|scene| {
-            let mut stats = None;
-            let count = allocations_in(|| {
-                stats = Some(render_tile_adaptive(
-                    scene, &camera, &sampler, &settings, tile, adaptive, &mut film,
-                ));
-            });
-            (count, stats.unwrap().unwrap())
-        })
-        .unwrap();
-    assert!(stats.rays > 0);
-    assert_eq!(count, 0, "{name} adaptive: {count} allocations");
-}
-
-fn render_tile_never_allocates() {
-    for name in BUILT_IN {
-        for direct in [true, false] {
-            check(name, Independent::new(8, 1).unwrap(), direct);
-            check(name, UniformGrid::new(8, 1).unwrap(), direct);
-            check(name, Stratified::new(8, 1).unwrap(), direct);
-        }
-    }
 }
 
 /// Through the runner, on 2 threads: the allocations of a render do not
@@ -181,6 +106,5 @@ fn the_counter_sees_allocations() {
 #[test]
 fn no_allocation_in_the_per_sample_loop() {
     the_counter_sees_allocations();
-    render_tile_never_allocates();
     allocations_do_not_grow_with_samples();
 }

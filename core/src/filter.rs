@@ -85,6 +85,20 @@ impl FilterKind {
         FilterKind::BlackmanHarris,
     ];
 
+    /// The kind of [`FilterKind::ALL`] called `name` ([`FilterKind::name`]),
+    /// with its usual parameters.
+    ///
+    /// ```
+    /// use strata::filter::FilterKind;
+    /// assert_eq!(FilterKind::named("lanczos"), Some(FilterKind::Lanczos { tau: 3.0 }));
+    /// assert_eq!(FilterKind::named("sinc"), None);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn named(name: &str) -> Option<FilterKind> {
+        FilterKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
     /// The usual radius of this kind, in pixels.
     ///
     /// ```

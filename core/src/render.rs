@@ -23,15 +23,12 @@ mod texture;
 pub use crate::filter::PixelFilter;
 pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PixelError};
 pub use camera::{Camera, CameraDesc, CameraError};
-pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum, to_fixed};
+pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum};
 pub use integrator::{
-    RenderError, RenderSettings, Tile, TileStats, pixel_sample, power_heuristic, render_tile,
-    render_tile_adaptive,
+    RenderError, RenderSettings, Tile, TileStats, pixel_sample, render_tile, render_tile_adaptive,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
-pub use scene::{
-    BVH_THRESHOLD, Background, Scene, SceneError, SceneStorage, SceneStorageSize, collect_lights,
-};
+pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 
 /// The revision of what renders compute: raised whenever a change alters

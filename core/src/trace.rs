@@ -20,7 +20,7 @@
 //! (the private `lanes` module), so a ray gets the same sphere index and
 //! the bit-identical `t` from the scalar, 1×8 and packet paths, on SSE2,
 //! AVX2 or AVX-512 builds. No operation is fused; `√` is IEEE-exact
-//! everywhere. `tests/packet_vs_scalar.rs` checks this on 10⁶ rays.
+//! everywhere. `tests/tracing/packet_vs_scalar.rs` checks this on 10⁶ rays.
 //!
 //! # The formula
 //!
@@ -45,7 +45,7 @@
 //! gets 16 % of hit/miss decisions wrong on a r = 0.5 sphere 2000 away),
 //! but for an origin near a big sphere — a camera just above a r = 1000
 //! ground, looking at the horizon — its `t` is 7× less accurate.
-//! `tests/robustness.rs` measures all three against `f64`, and sweeps
+//! `tests/tracing/precision.rs` measures all three against `f64`, and sweeps
 //! `|f| / r` to check the choice never does worse than the better form.
 //!
 //! Rays that leave a surface start from [`Sphere::spawn_origin`], not from
@@ -74,8 +74,8 @@ mod lanes;
 mod packet;
 
 pub use bvh::{
-    BVH_LEAF_MAX, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SAH_DEPTH,
-    BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStack, BvhStorage, bvh_storage_for,
+    BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8,
+    BvhStack, BvhStorage, bvh_storage_for,
 };
 use lanes::Lanes;
 pub use packet::{
@@ -170,7 +170,7 @@ impl Sphere {
 
 /// The offset that moves a point on a sphere off its surface for good, in
 /// units of `f32::EPSILON · (max |centre component| + radius)`.
-/// Measured: 1 suffices for every case in `tests/robustness.rs` (0.5 does
+/// Measured: 1 suffices for every case in `tests/tracing/precision.rs` (0.5 does
 /// not); 8 is the margin.
 pub const SPAWN_OFFSET_ULPS: f32 = 8.0;
 
@@ -380,7 +380,7 @@ pub fn intersect_sphere(ray: &Ray, sphere: &Sphere) -> Option<f32> {
 /// to show why Strata does not use it: `Δ = b² − a c` with `a = d·d`,
 /// `b = f·d`, `c = |f|² − r²`, roots `(−b ∓ √Δ) / a`. Its discriminant
 /// cancels catastrophically when a sphere is small against its distance
-/// (see `tests/robustness.rs`). Same interval and degenerate-input rules
+/// (see `tests/tracing/precision.rs`). Same interval and degenerate-input rules
 /// as [`intersect_sphere`].
 ///
 /// ```

@@ -777,7 +777,11 @@ impl FilterName {
     /// The filter of this name and `radius` (its usual one if `None`).
     pub fn filter(self, radius: Option<f32>) -> Result<strata::render::PixelFilter> {
         use strata::filter::FilterKind;
-        let kind = FilterKind::ALL[self as usize];
+        let name = clap::ValueEnum::to_possible_value(&self)
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default();
+        let kind = FilterKind::named(&name)
+            .ok_or_else(|| anyhow::anyhow!("--filter {name}: no such filter in this build"))?;
         let r = radius.unwrap_or(kind.default_radius());
         strata::render::PixelFilter::new(kind, r)
             .map_err(|e| anyhow::anyhow!("--filter {} --filter-radius {r}: {e}", kind.name()))

@@ -52,6 +52,29 @@ impl SamplerKind {
             SamplerKind::Halton => "halton",
         }
     }
+
+    /// Runs `work` with the sampler of this kind for `spp` and `seed`, as
+    /// its concrete type (static dispatch: the hot loop is compiled per
+    /// kind); `None` if the kind refuses `spp`. The one place a kind
+    /// becomes a sampler.
+    pub fn with_sampler<W: WithSampler>(self, spp: u32, seed: u64, work: W) -> Option<W::Output> {
+        Some(match self {
+            SamplerKind::Independent => work.run(Independent::new(spp, seed)?),
+            SamplerKind::Grid => work.run(UniformGrid::new(spp, seed)?),
+            SamplerKind::Stratified => work.run(Stratified::new(spp, seed)?),
+            SamplerKind::Sobol => work.run(Sobol::new(spp, seed)?),
+            SamplerKind::Halton => work.run(Halton::new(spp, seed)?),
+        })
+    }
+}
+
+/// Work generic over the sampler, for [`SamplerKind::with_sampler`] (a
+/// closure cannot be generic).
+pub trait WithSampler {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `sampler`.
+    fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Self::Output;
 }
 
 /// One render: what, at what size, how.
@@ -168,47 +191,17 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         .context("cannot start the worker threads")?;
     let start = Instant::now();
     let films = data.with_scene_bvh(job.bvh, |scene| {
-        pool.install(|| match job.sampler {
-            SamplerKind::Independent => render_all(
+        pool.install(|| {
+            let work = RenderAll {
                 job,
                 scene,
-                &camera,
-                &settings,
-                Independent::new(job.spp, job.seed),
+                camera: &camera,
+                settings: &settings,
                 progress,
-            ),
-            SamplerKind::Grid => render_all(
-                job,
-                scene,
-                &camera,
-                &settings,
-                UniformGrid::new(job.spp, job.seed),
-                progress,
-            ),
-            SamplerKind::Stratified => render_all(
-                job,
-                scene,
-                &camera,
-                &settings,
-                Stratified::new(job.spp, job.seed),
-                progress,
-            ),
-            SamplerKind::Sobol => render_all(
-                job,
-                scene,
-                &camera,
-                &settings,
-                Sobol::new(job.spp, job.seed),
-                progress,
-            ),
-            SamplerKind::Halton => render_all(
-                job,
-                scene,
-                &camera,
-                &settings,
-                Halton::new(job.spp, job.seed),
-                progress,
-            ),
+            };
+            job.sampler
+                .with_sampler(job.spp, job.seed, work)
+                .ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?
         })
     })??;
     let wall = start.elapsed();
@@ -229,15 +222,37 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     })
 }
 
+/// Every tile of a job, in parallel, with one sampler kind.
+struct RenderAll<'a, 's> {
+    job: &'a Job<'a>,
+    scene: &'a Scene<'s>,
+    camera: &'a Camera,
+    settings: &'a RenderSettings,
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+impl WithSampler for RenderAll<'_, '_> {
+    type Output = Result<Vec<(Tile, Vec<PixelSum>, TileStats)>>;
+    fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Self::Output {
+        render_all(
+            self.job,
+            self.scene,
+            self.camera,
+            self.settings,
+            sampler,
+            self.progress,
+        )
+    }
+}
+
 fn render_all<S: Sampler + Clone + Send + Sync>(
     job: &Job<'_>,
     scene: &Scene<'_>,
     camera: &Camera,
     settings: &RenderSettings,
-    sampler: Option<S>,
+    sampler: S,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<(Tile, Vec<PixelSum>, TileStats)>> {
-    let sampler = sampler.ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?;
     tiles(job.window, job.tile)
         .into_par_iter()
         .map(|tile| {

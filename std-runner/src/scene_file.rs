@@ -651,7 +651,10 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
                     *ior,
                 )?;
             }
-            _ => {}
+            // Colours only: validate() below names what is wrong.
+            Material::Lambertian { .. }
+            | Material::Mirror { .. }
+            | Material::DiffuseLight { .. } => {}
         }
         if let Err(e) = material.validate() {
             use strata::render::MaterialError::*;

@@ -21,9 +21,9 @@ use anyhow::{Result, bail};
 use glam::UVec2;
 use plotters::prelude::*;
 use rayon::prelude::*;
-use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::Sampler;
 
-use crate::render::SamplerKind;
+use crate::render::{SamplerKind, WithSampler};
 
 /// The averaged periodogram of one sampler.
 #[derive(Clone, Debug)]
@@ -108,13 +108,7 @@ pub fn spectrum(
     if spp == 0 || pixels == 0 || r == 0 || r > MAX_RANGE {
         bail!("spectrum of {spp} spp over {pixels} pixels up to frequency {r}: out of range");
     }
-    let made = match sampler {
-        SamplerKind::Independent => average(Independent::new(spp, seed), spp, pixels, r),
-        SamplerKind::Grid => average(UniformGrid::new(spp, seed), spp, pixels, r),
-        SamplerKind::Stratified => average(Stratified::new(spp, seed), spp, pixels, r),
-        SamplerKind::Sobol => average(Sobol::new(spp, seed), spp, pixels, r),
-        SamplerKind::Halton => average(Halton::new(spp, seed), spp, pixels, r),
-    };
+    let made = sampler.with_sampler(spp, seed, Average { spp, pixels, r });
     let Some(power) = made else {
         bail!("{} takes no {spp} samples per pixel", sampler.name());
     };
@@ -127,13 +121,26 @@ pub fn spectrum(
     })
 }
 
-fn average<S: Sampler + Clone + Send + Sync>(
-    sampler: Option<S>,
+/// The averaged periodogram, for one sampler kind.
+struct Average {
     spp: u32,
     pixels: u32,
     r: u32,
-) -> Option<Vec<f64>> {
-    let sampler = sampler?;
+}
+
+impl WithSampler for Average {
+    type Output = Vec<f64>;
+    fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Vec<f64> {
+        average(sampler, self.spp, self.pixels, self.r)
+    }
+}
+
+fn average<S: Sampler + Clone + Send + Sync>(
+    sampler: S,
+    spp: u32,
+    pixels: u32,
+    r: u32,
+) -> Vec<f64> {
     let side = 2 * r as usize + 1;
     let one = |i: u32| {
         let mut s = sampler.clone();
@@ -180,7 +187,7 @@ fn average<S: Sampler + Clone + Send + Sync>(
             .collect();
         total = sums.into_iter().fold(total, add);
     }
-    Some(total.into_iter().map(|p| p / pixels as f64).collect())
+    total.into_iter().map(|p| p / pixels as f64).collect()
 }
 
 /// `out[ω + r] = e^{−2πi ω t}` for `ω` in `−r..=r`.

@@ -3,7 +3,7 @@
 //!
 //! Floating-point addition is not associative; integer addition is. Each
 //! sample's RGB is clamped to `±MAX_SAMPLE_VALUE`, scaled by `2^24` and
-//! rounded to an `i64` ([`to_fixed`]), and the sums are integers. Merging
+//! rounded to an `i64`, and the sums are integers. Merging
 //! two partial films is integer addition, so one run of samples `[0, b)`
 //! gives the same bits as runs `[0, a)` and `[a, b)` merged, in any order.
 //!
@@ -31,16 +31,9 @@ pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
 
 /// `x` in film units: `round(clamp(x) · 2²⁴)`, exact and the same on every
 /// CPU (the scaling is by a power of two, the rounding is `libm`'s).
-///
-/// ```
-/// use strata::render::{to_fixed, FILM_SCALE};
-/// assert_eq!(to_fixed(1.0), FILM_SCALE as i64);
-/// assert_eq!(to_fixed(-0.5), -(FILM_SCALE as i64) / 2);
-/// assert_eq!(to_fixed(1e30), to_fixed(65_536.0));
-/// ```
 #[inline]
 #[must_use]
-pub fn to_fixed(x: f32) -> i64 {
+pub(crate) fn to_fixed(x: f32) -> i64 {
     libm::roundf(x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE) as i64
 }
 
@@ -203,5 +196,20 @@ impl PixelSum {
             (self.sum[1] as f64 * k) as f32,
             (self.sum[2] as f64 * k) as f32,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn to_fixed_scales_clamps_and_rounds() {
+        assert_eq!(to_fixed(1.0), FILM_SCALE as i64);
+        assert_eq!(to_fixed(-0.5), -(FILM_SCALE as i64) / 2);
+        assert_eq!(to_fixed(1e30), to_fixed(MAX_SAMPLE_VALUE));
+        assert_eq!(to_fixed(-1e30), -to_fixed(MAX_SAMPLE_VALUE));
+        // Half a film unit rounds away from zero.
+        assert_eq!(to_fixed(0.5 / FILM_SCALE), 1);
     }
 }

@@ -189,16 +189,9 @@ impl core::error::Error for RenderError {}
 
 /// The power heuristic (β = 2): the weight of a strategy with density `a`
 /// against one with density `b`.
-///
-/// ```
-/// use strata::render::power_heuristic;
-/// assert_eq!(power_heuristic(1.0, 1.0), 0.5);
-/// assert_eq!(power_heuristic(3.0, 0.0), 1.0);
-/// assert_eq!(power_heuristic(0.0, 0.0), 0.0);
-/// ```
 #[inline]
 #[must_use]
-pub fn power_heuristic(a: f32, b: f32) -> f32 {
+pub(crate) fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
@@ -768,4 +761,19 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             }
         },
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_heuristic_weights() {
+        assert_eq!(power_heuristic(1.0, 1.0), 0.5);
+        assert_eq!(power_heuristic(3.0, 0.0), 1.0);
+        assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+        assert_eq!(power_heuristic(1.0, 3.0), 0.1);
+        // The two strategies' weights sum to 1.
+        assert_eq!(power_heuristic(2.0, 5.0) + power_heuristic(5.0, 2.0), 1.0);
+    }
 }

@@ -21,7 +21,7 @@
 //! albedo depends on the exponent and can exceed 1 (COURSE.md D11: 1.51 for
 //! the centre sphere at normal incidence). `PhongNormalized` and
 //! `BlinnNormalized` are the energy-conserving forms, with `kd + ks ≤ 1`
-//! (`tests/render.rs` checks their albedo stays at or below 1).
+//! (`tests/rendering/render.rs` checks their albedo stays at or below 1).
 
 use core::f32::consts::{FRAC_1_PI, PI};
 
@@ -348,7 +348,15 @@ impl Material<'_> {
     pub fn emitted(&self) -> Vec3 {
         match self {
             Material::DiffuseLight { emit } => *emit,
-            _ => Vec3::ZERO,
+            Material::Lambertian { .. }
+            | Material::Mirror { .. }
+            | Material::Metal { .. }
+            | Material::Dielectric { .. }
+            | Material::Phong { .. }
+            | Material::Blinn { .. }
+            | Material::PhongNormalized { .. }
+            | Material::BlinnNormalized { .. }
+            | Material::CookTorrance { .. } => Vec3::ZERO,
         }
     }
 
@@ -371,7 +379,10 @@ impl Material<'_> {
             | Material::PhongNormalized { albedo, .. }
             | Material::BlinnNormalized { albedo, .. }
             | Material::CookTorrance { albedo, .. } => albedo.uses_uv(),
-            _ => false,
+            Material::Mirror { .. }
+            | Material::Metal { .. }
+            | Material::Dielectric { .. }
+            | Material::DiffuseLight { .. } => false,
         }
     }
 
@@ -470,7 +481,11 @@ impl Material<'_> {
                 }
                 rho(albedo) * (kd * FRAC_1_PI) + Vec3::splat(spec)
             }
-            _ => Vec3::ZERO,
+            // Delta lobes and emitters have no density to evaluate.
+            Material::Mirror { .. }
+            | Material::Metal { .. }
+            | Material::Dielectric { .. }
+            | Material::DiffuseLight { .. } => Vec3::ZERO,
         }
     }
 
@@ -551,7 +566,14 @@ impl Material<'_> {
                     transmitted: !reflects,
                 })
             }
-            _ => {
+            // Every smooth lobe is sampled by the cosine: its BRDF is
+            // evaluated at the drawn direction.
+            Material::Lambertian { .. }
+            | Material::Phong { .. }
+            | Material::Blinn { .. }
+            | Material::PhongNormalized { .. }
+            | Material::BlinnNormalized { .. }
+            | Material::CookTorrance { .. } => {
                 let local = sample_cosine_hemisphere(u);
                 let pdf = pdf_cosine_hemisphere(local);
                 if pdf <= 0.0 {

@@ -10,13 +10,6 @@ use crate::trace::{
     closest_hit_1x8, closest_hit_x8,
 };
 
-/// The sphere count from which a BVH pays for itself: below it the
-/// brute-force 8-wide loop is as fast (measured on the course's 4 spheres
-/// and the cover's 485; `strata bench`). The runner attaches a BVH to
-/// scenes of at least this many spheres; the choice never changes a
-/// pixel.
-pub const BVH_THRESHOLD: usize = 16;
-
 /// Packet rays that continue alone in a BVH subtree when no more than
 /// this many of the 8 reach it (measured best for camera packets).
 const PACKET_FALLBACK: u32 = 2;
@@ -138,7 +131,7 @@ impl core::error::Error for SceneError {
 /// A scene for [`super::render_tile`]. Sphere `i` has material
 /// `materials[sphere_material[i]]`; `lights` lists, in increasing order,
 /// the indices of the spheres whose material emits (the direct-lighting
-/// candidates; see [`collect_lights`]).
+/// candidates; [`Scene::build`] collects them).
 #[derive(Clone, Copy, Debug)]
 pub struct Scene<'a> {
     spheres: &'a [Sphere],
@@ -153,20 +146,8 @@ pub struct Scene<'a> {
 /// Writes the indices of the emissive spheres into `out` in increasing
 /// order and returns how many there are; `None` if `out` is too short or a
 /// material index is out of range.
-///
-/// ```
-/// use glam::Vec3;
-/// use strata::render::{collect_lights, Material, Texture};
-/// let materials = [
-///     Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) },
-///     Material::DiffuseLight { emit: Vec3::splat(4.0) },
-/// ];
-/// let mut lights = [0u32; 3];
-/// assert_eq!(collect_lights(&materials, &[0, 1, 1], &mut lights), Some(2));
-/// assert_eq!(&lights[..2], &[1, 2]);
-/// ```
 #[inline]
-pub fn collect_lights(
+pub(crate) fn collect_lights(
     materials: &[Material<'_>],
     sphere_material: &[u32],
     out: &mut [u32],
@@ -202,8 +183,8 @@ pub struct SceneStorageSize {
 }
 
 impl SceneStorageSize {
-    /// The sizes for `n` spheres, with room for a BVH if `bvh` (the runner
-    /// asks for one from [`BVH_THRESHOLD`] spheres).
+    /// The sizes for `n` spheres, with room for a BVH if `bvh` (it pays
+    /// for itself from about 16 spheres; it never changes a hit).
     #[inline]
     #[must_use]
     pub fn for_spheres(n: usize, bvh: bool) -> Self {
@@ -483,6 +464,17 @@ mod tests {
             let r = if i < n { 0.4 } else { 1.0 };
             Sphere::new(Vec3::new(i as f32, 0.0, -5.0), r)
         })
+    }
+
+    #[test]
+    fn collect_lights_in_index_order() {
+        let materials = [GREY, LAMP];
+        let mut lights = [0u32; 3];
+        assert_eq!(collect_lights(&materials, &[0, 1, 1], &mut lights), Some(2));
+        assert_eq!(&lights[..2], &[1, 2]);
+        // Too short a slice, or a missing material: None.
+        assert_eq!(collect_lights(&materials, &[1, 1], &mut lights[..1]), None);
+        assert_eq!(collect_lights(&materials, &[0, 2], &mut lights), None);
     }
 
     #[test]

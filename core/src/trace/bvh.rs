@@ -16,9 +16,9 @@
 //! Top-down and single-threaded, so the tree depends only on the spheres
 //! and their order. A node's children are made by repeatedly splitting the
 //! child with the largest box surface (among those with more than
-//! [`BVH_LEAF_MAX`] spheres) until there are eight or none can split.
+//! `BVH_LEAF_MAX` = 8 spheres) until there are eight or none can split.
 //! Splits are binned SAH (16 bins of the centroid bounds, on each axis)
-//! down to depth [`BVH_SAH_DEPTH`]; below it, and wherever all centroids
+//! down to depth `BVH_SAH_DEPTH` = 16; below it, and wherever all centroids
 //! coincide, a split at the median of the longest centroid axis (ties by
 //! sphere index). Median splits divide the spheres by eight per level, so
 //! the tree is at most [`BVH_MAX_DEPTH`] nodes deep for up to
@@ -36,7 +36,7 @@
 //!
 //! - The kernel's hit point `o + t d` (with its rounded `t`) lies within
 //!   `r + K ε (|o|₁ + |c|₁ + r)` of the centre `c` (`K` =
-//!   [`BVH_SLACK_ULPS`], `ε = 2⁻²⁴`; `tests/bvh.rs` checks a margin of 4
+//!   [`BVH_SLACK_ULPS`], `ε = 2⁻²⁴`; `tests/tracing/bvh.rs` checks a margin of 4
 //!   on grazing, tangent, distant and inside rays). The sphere's box gets
 //!   the `|c|₁ + r` part of that slack at build time, the ray adds the
 //!   `|o|₁` part at traversal (by moving the slab planes, at no cost per
@@ -59,7 +59,7 @@ use super::packet::HitPacket8;
 use super::{Hit, Ray, RayPacket8, Sphere, sphere_t};
 
 /// Most spheres in a leaf.
-pub const BVH_LEAF_MAX: usize = 8;
+pub(crate) const BVH_LEAF_MAX: usize = 8;
 
 /// Most spheres a [`Bvh`] holds: leaf references keep 27 bits of lane
 /// position.
@@ -67,9 +67,9 @@ pub const BVH_MAX_SPHERES: usize = 1 << 27;
 
 /// Depth (in node levels) above which splits are binned SAH; below, median
 /// splits.
-pub const BVH_SAH_DEPTH: u32 = 16;
+pub(crate) const BVH_SAH_DEPTH: u32 = 16;
 
-/// The deepest a tree can be, in node levels: [`BVH_SAH_DEPTH`] SAH levels
+/// The deepest a tree can be, in node levels: `BVH_SAH_DEPTH` (16) SAH levels
 /// and at most ten median levels (each divides the spheres by 8, and
 /// `8¹⁰ · 8 ≥ 2²⁷`).
 pub const BVH_MAX_DEPTH: u32 = BVH_SAH_DEPTH + 10;

@@ -608,3 +608,53 @@ pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
     }
     occluded
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn storage_sizing_and_what_a_set_refuses() {
+        let spheres = [Sphere::new(Vec3::ZERO, 1.0); 17];
+        assert_eq!(chunks_for(17), 3);
+        let mut small = [SphereChunk8::EMPTY; 2];
+        assert_eq!(
+            SphereSet::build(&spheres, &mut small).unwrap_err(),
+            SphereSetError::StorageTooSmall {
+                needed: 3,
+                provided: 2
+            }
+        );
+        let mut big = [SphereChunk8::EMPTY; 5];
+        let set = SphereSet::build(&spheres, &mut big).unwrap();
+        assert_eq!((set.len(), set.chunks().len()), (17, 3));
+        assert_eq!(set.sphere(16), Some(spheres[16]));
+        assert_eq!(set.sphere(17), None);
+        // Padding lanes have radius 0.
+        assert!((1..8).all(|k| set.chunks()[2].sphere(k).radius == 0.0));
+        // A kept view of built chunks, and what it refuses.
+        let view = SphereSet::from_chunks(&big[..3], 17).unwrap();
+        assert_eq!(view.sphere(16), Some(spheres[16]));
+        assert_eq!(
+            SphereSet::from_chunks(&big[..2], 17).unwrap_err(),
+            SphereSetError::StorageTooSmall {
+                needed: 3,
+                provided: 2
+            }
+        );
+        let mut corrupt = [big[0], big[1], big[2]];
+        let mut lanes: [Sphere; 8] = core::array::from_fn(|k| corrupt[2].sphere(k));
+        lanes[5].radius = 1.0;
+        corrupt[2] = SphereChunk8::from_spheres(lanes);
+        assert_eq!(
+            SphereSet::from_chunks(&corrupt, 17).unwrap_err(),
+            SphereSetError::Padding
+        );
+        let empty = SphereSet::build(&[], &mut []).unwrap();
+        assert!(empty.is_empty());
+        assert_eq!(
+            super::closest_hit_1x8(&Ray::new(Vec3::ZERO, Vec3::X), &empty),
+            None
+        );
+    }
+}

@@ -3,8 +3,6 @@
 //! course's table for its Blinn lobes), MIS against an analytic
 //! irradiance, and the course's shadow-ray defect not reproduced.
 
-mod support;
-
 use glam::{UVec2, Vec2, Vec3};
 use strata::render::*;
 use strata::rng::{Pcg32, STREAM, next_f32};

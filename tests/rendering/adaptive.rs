@@ -344,11 +344,11 @@ fn flat_regions_stop_at_the_base_whatever_the_filter() {
     for (filter, least) in [
         (PixelFilter::BOX, 1.0),
         (
-            PixelFilter::new(strata::filter::FilterKind::ALL[3], 2.0).unwrap(),
+            PixelFilter::new(strata::filter::FilterKind::named("mitchell").unwrap(), 2.0).unwrap(),
             0.99,
         ),
         (
-            PixelFilter::new(strata::filter::FilterKind::ALL[4], 3.0).unwrap(),
+            PixelFilter::new(strata::filter::FilterKind::named("lanczos").unwrap(), 3.0).unwrap(),
             0.94,
         ),
     ] {

@@ -3,14 +3,12 @@
 //! correction (see `support/chi2.rs`). Each test also checks that the pdf
 //! integrates to 1 over its domain.
 
-mod support;
-
+use crate::support::chi2::{Chi2, Domain, chi2_sf, gamma_q};
 use glam::{UVec2, Vec2, Vec3};
 use strata::filter::{FilterKind, PixelFilter};
 use strata::mapping::{self, Cone, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::{Onb, Sampler, Stratified};
-use support::chi2::{Chi2, Domain, chi2_sf, gamma_q};
 
 fn v3(w: Vec3) -> [f64; 3] {
     [w.x as f64, w.y as f64, w.z as f64]
@@ -48,7 +46,7 @@ macro_rules! chi2_tests {
         $(
             #[test]
             fn $name() {
-                let seed = support::seed_for(stringify!($name));
+                let seed = crate::support::seed_for(stringify!($name));
                 let mut $rng = Pcg32::new(seed, STREAM);
                 let test = Chi2::new(stringify!($name), $domain, $res, TEST_COUNT);
                 let outcome = test.run(|| $sample, |$p: [f64; 3]| $pdf);
@@ -63,21 +61,25 @@ macro_rules! chi2_tests {
     };
 }
 
-/// Filter `k` of `FilterKind::ALL` at its usual radius (built once: the
-/// pdf is called for every histogram cell).
-fn filter(k: usize) -> &'static PixelFilter {
+/// The filter called `name` at its usual radius (built once: the pdf is
+/// called for every histogram cell).
+fn filter(name: &str) -> &'static PixelFilter {
     static FILTERS: std::sync::OnceLock<Vec<PixelFilter>> = std::sync::OnceLock::new();
-    &FILTERS.get_or_init(|| {
-        FilterKind::ALL
-            .iter()
-            .map(|&kind| PixelFilter::new(kind, kind.default_radius()).unwrap())
-            .collect()
-    })[k]
+    FILTERS
+        .get_or_init(|| {
+            FilterKind::ALL
+                .iter()
+                .map(|&kind| PixelFilter::new(kind, kind.default_radius()).unwrap())
+                .collect()
+        })
+        .iter()
+        .find(|f| f.kind().name() == name)
+        .unwrap_or_else(|| panic!("no filter `{name}`"))
 }
 
-/// The square `[−r, r]²` a filter covers.
-fn filter_domain(k: usize) -> Domain {
-    let r = FilterKind::ALL[k].default_radius() as f64;
+/// The square `[−r, r]²` the filter called `name` covers.
+fn filter_domain(name: &str) -> Domain {
+    let r = filter(name).radius() as f64;
     Domain::Rect {
         x0: -r,
         x1: r,
@@ -92,24 +94,24 @@ fn filter_domain(k: usize) -> Domain {
 const FILTER_RES: (usize, usize) = (64, 64);
 
 chi2_tests! {
-    box_filter_chi2: filter_domain(0), FILTER_RES,
-        |rng| v2(filter(0).sample(uniform(&mut rng)).offset),
-        |p| filter(0).pdf(w2(p)) as f64;
-    tent_filter_chi2: filter_domain(1), FILTER_RES,
-        |rng| v2(filter(1).sample(uniform(&mut rng)).offset),
-        |p| filter(1).pdf(w2(p)) as f64;
-    gaussian_filter_chi2: filter_domain(2), FILTER_RES,
-        |rng| v2(filter(2).sample(uniform(&mut rng)).offset),
-        |p| filter(2).pdf(w2(p)) as f64;
-    mitchell_filter_chi2: filter_domain(3), FILTER_RES,
-        |rng| v2(filter(3).sample(uniform(&mut rng)).offset),
-        |p| filter(3).pdf(w2(p)) as f64;
-    lanczos_filter_chi2: filter_domain(4), FILTER_RES,
-        |rng| v2(filter(4).sample(uniform(&mut rng)).offset),
-        |p| filter(4).pdf(w2(p)) as f64;
-    blackman_harris_filter_chi2: filter_domain(5), FILTER_RES,
-        |rng| v2(filter(5).sample(uniform(&mut rng)).offset),
-        |p| filter(5).pdf(w2(p)) as f64;
+    box_filter_chi2: filter_domain("box"), FILTER_RES,
+        |rng| v2(filter("box").sample(uniform(&mut rng)).offset),
+        |p| filter("box").pdf(w2(p)) as f64;
+    tent_filter_chi2: filter_domain("tent"), FILTER_RES,
+        |rng| v2(filter("tent").sample(uniform(&mut rng)).offset),
+        |p| filter("tent").pdf(w2(p)) as f64;
+    gaussian_filter_chi2: filter_domain("gaussian"), FILTER_RES,
+        |rng| v2(filter("gaussian").sample(uniform(&mut rng)).offset),
+        |p| filter("gaussian").pdf(w2(p)) as f64;
+    mitchell_filter_chi2: filter_domain("mitchell"), FILTER_RES,
+        |rng| v2(filter("mitchell").sample(uniform(&mut rng)).offset),
+        |p| filter("mitchell").pdf(w2(p)) as f64;
+    lanczos_filter_chi2: filter_domain("lanczos"), FILTER_RES,
+        |rng| v2(filter("lanczos").sample(uniform(&mut rng)).offset),
+        |p| filter("lanczos").pdf(w2(p)) as f64;
+    blackman_harris_filter_chi2: filter_domain("blackman-harris"), FILTER_RES,
+        |rng| v2(filter("blackman-harris").sample(uniform(&mut rng)).offset),
+        |p| filter("blackman-harris").pdf(w2(p)) as f64;
     uniform_sphere_chi2: Domain::SPHERE, SPHERE_RES,
         |rng| v3(mapping::sample_uniform_sphere(uniform(&mut rng))),
         |p| mapping::pdf_uniform_sphere(w3(p)) as f64;

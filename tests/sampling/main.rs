@@ -1,0 +1,27 @@
+//! Sampling: samplers, mappings, bases and filters, checked statistically
+//! (fixed seeds, stated significance levels) and exactly.
+//!
+//! | module | guards |
+//! |---|---|
+//! | `chi2` | every mapping and filter sampler against its own pdf (χ², must-fail controls) |
+//! | `round_trip` | every inverse undoes its mapping |
+//! | `onb` | orthonormal bases, handedness, adversarial normals |
+//! | `stratification` | one sample per stratum, per pass, for any spp |
+//! | `order` | a sample's bits do not depend on visiting order |
+//! | `independence` | neighbouring streams are uncorrelated |
+//! | `filters` | filters integrate to 1; filter importance sampling is unbiased |
+//! | `convergence` | stratified and low-discrepancy errors order as the lecture says |
+//! | `spectrum` | the samplers' periodograms: flat, blue, spiky |
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod chi2;
+mod convergence;
+mod filters;
+mod independence;
+mod onb;
+mod order;
+mod round_trip;
+mod spectrum;
+mod stratification;
