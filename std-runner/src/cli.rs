@@ -14,8 +14,9 @@ use strata::render::Tile;
 
 use crate::film_file::{Film, RenderKey, window_text};
 use crate::image_io::{Transfer, check_output, check_writable_dir, say, write_atomic};
+use crate::limits::{MAX_DEPTH, MAX_PIXELS, MAX_RANGE, MAX_SPP, MAX_WIDTH};
 use crate::render::{Job, SamplerKind, run};
-use crate::scene_file::{self, MAX_DEPTH, MAX_SPP, MAX_WIDTH};
+use crate::scene_file;
 use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
 
 /// Deterministic sampling and ray tracing of sphere scenes.
@@ -444,7 +445,7 @@ pub struct SpectrumArgs {
     pub pixels: u32,
     /// Highest frequency on each axis, in cycles per pixel [default: 4
     /// √spp, at least 16; at most 128].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=crate::spectrum::MAX_RANGE as i64))]
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_RANGE as i64))]
     pub max_frequency: Option<u32>,
     /// Seed of the sample streams.
     #[arg(long, default_value_t = 0)]
@@ -858,10 +859,6 @@ pub fn resolve_scene(arg: &str) -> Result<SceneData> {
     )
 }
 
-/// The largest image accepted, in pixels: 2²⁵ (e.g. 8192 × 4096), whose
-/// films and output buffers need about 2.5 GiB at the peak.
-pub const MAX_PIXELS: u64 = 1 << 25;
-
 /// Runs `strata render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let scene = resolve_scene(&args.scene)?;
@@ -1253,7 +1250,7 @@ pub fn verify(args: &VerifyArgs) -> Result<()> {
         golden::SIZE.1,
         golden::SPP,
         golden::SEED,
-        golden::MAX_DEPTH
+        golden::DEPTH
     ));
     let outcomes = golden::verify(args.threads as usize, &mut |o| {
         let (status, why) = match o.expected {

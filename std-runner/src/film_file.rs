@@ -36,9 +36,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use strata::render::{PixelSum, Tile};
 
-use crate::cli::MAX_PIXELS;
+use crate::limits::{MAX_PIXELS, MAX_SPP, MAX_WIDTH};
 use crate::render::Job;
-use crate::scene_file::{MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
 pub const MAGIC: &str = "strata-film 3";

@@ -39,7 +39,7 @@ pub const SPP: u32 = 4;
 /// Seed of a golden render.
 pub const SEED: u64 = 5;
 /// Ray segments per path of a golden render.
-pub const MAX_DEPTH: u32 = 8;
+pub const DEPTH: u32 = 8;
 
 /// Scene files rendered by the table, embedded so `strata verify` needs
 /// no files: (path in the repository, text).
@@ -239,7 +239,7 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
 }
 
 /// The golden job for `scene` and `sampler`: [`SIZE`], [`SPP`], [`SEED`],
-/// [`MAX_DEPTH`], the box filter, on `threads` threads in tiles of 8.
+/// [`DEPTH`], the box filter, on `threads` threads in tiles of 8.
 #[must_use]
 pub fn job(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Job<'_> {
     let (width, height) = SIZE;
@@ -250,7 +250,7 @@ pub fn job(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Job<'_> {
         window: strata::render::Tile::whole(width, height),
         spp: SPP,
         samples: 0..SPP,
-        max_depth: MAX_DEPTH,
+        max_depth: DEPTH,
         sampler,
         seed: SEED,
         threads,

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 
+use crate::limits::MAX_TEXELS;
 use crate::scenes::Image;
 
 /// How linear radiance becomes 8-bit values.
@@ -235,9 +236,6 @@ fn exr_bytes(
         .context("cannot encode the EXR image")?;
     Ok(out.into_inner())
 }
-
-/// The largest texture accepted, in texels (64 Mi: 768 MiB of linear RGB).
-pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// Reads a PNG (8- or 16-bit, grey, grey-alpha, RGB or RGBA; alpha is
 /// ignored) and decodes its sRGB values to linear RGB. A header that

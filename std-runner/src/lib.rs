@@ -8,6 +8,7 @@ pub mod film_file;
 pub mod golden;
 pub mod hash;
 pub mod image_io;
+pub mod limits;
 pub mod render;
 pub mod scene_file;
 pub mod scenes;

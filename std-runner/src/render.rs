@@ -86,7 +86,7 @@ pub struct Job<'a> {
     pub width: u32,
     /// Image height.
     pub height: u32,
-    /// The pixels to render, inside `width × height` ([`Job::whole`] for
+    /// The pixels to render, inside `width × height` ([`Tile::whole`] for
     /// all of them). Pixels outside are not traced; a pixel's value does
     /// not depend on the window.
     pub window: Tile,

@@ -57,6 +57,7 @@ use strata::trace::Sphere;
 use toml::Spanned;
 
 use crate::image_io::read_png_linear;
+use crate::limits::{MAX_DEPTH, MAX_SPP, MAX_WIDTH};
 use crate::scenes::{Defaults, Image, SceneData};
 
 /// A scene file that could not be used: where and why.
@@ -190,14 +191,6 @@ struct FileSphere {
     radius: Spanned<f32>,
     material: Spanned<String>,
 }
-
-/// Limits a scene file may set as defaults; the command line checks the
-/// same ones.
-pub const MAX_WIDTH: u32 = 16_384;
-/// The largest samples per pixel accepted.
-pub const MAX_SPP: u32 = 1 << 20;
-/// The largest path depth accepted.
-pub const MAX_DEPTH: u32 = 10_000;
 
 /// The TOML table that holds byte `offset`: `materials.glass` for a
 /// `[materials.glass]` header, `spheres[3]` for the fourth `[[spheres]]`,

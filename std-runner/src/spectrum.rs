@@ -23,6 +23,7 @@ use plotters::prelude::*;
 use rayon::prelude::*;
 use strata::Sampler;
 
+use crate::limits::MAX_RANGE;
 use crate::render::{SamplerKind, WithSampler};
 
 /// The averaged periodogram of one sampler.
@@ -92,9 +93,6 @@ pub fn default_range(spp: u32) -> u32 {
         .ceil()
         .clamp(16.0, MAX_RANGE as f64) as u32
 }
-
-/// The largest frequency range accepted (a 257 × 257 grid).
-pub const MAX_RANGE: u32 = 128;
 
 /// The periodogram of `sampler` at `spp`, averaged over `pixels` pixels
 /// (a row-major run of a 64-pixel-wide image), for frequencies up to `r`.

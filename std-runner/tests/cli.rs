@@ -1013,7 +1013,7 @@ fn golden_file_rows_are_what_render_writes() {
                     "--seed",
                     &golden::SEED.to_string(),
                     "--max-depth",
-                    &golden::MAX_DEPTH.to_string(),
+                    &golden::DEPTH.to_string(),
                     "--sampler",
                     golden::FILE_SAMPLER.name(),
                     "--threads",

@@ -459,6 +459,40 @@ mod tests {
         emit: Vec3::splat(4.0),
     };
 
+    /// Fixed-size storage for up to 20 spheres with a BVH.
+    struct Buffers {
+        chunks: [SphereChunk8; 3],
+        lights: [u32; 20],
+        nodes: [BvhNode8; 8],
+        lanes: [f32; 128],
+        ids: [u32; 32],
+    }
+
+    impl Buffers {
+        fn new() -> Self {
+            let size = SceneStorageSize::for_spheres(20, true);
+            let bvh = size.bvh.unwrap();
+            assert!(size.chunks <= 3 && bvh.nodes <= 8 && bvh.lanes <= 128 && bvh.ids <= 32);
+            Self {
+                chunks: [SphereChunk8::EMPTY; 3],
+                lights: [u32::MAX; 20],
+                nodes: [BvhNode8::EMPTY; 8],
+                lanes: [0.0; 128],
+                ids: [0; 32],
+            }
+        }
+
+        fn storage(&mut self) -> SceneStorage<'_> {
+            SceneStorage {
+                chunks: &mut self.chunks,
+                lights: &mut self.lights,
+                bvh_nodes: &mut self.nodes,
+                bvh_lanes: &mut self.lanes,
+                bvh_ids: &mut self.ids,
+            }
+        }
+    }
+
     fn spheres(n: usize) -> [Sphere; 20] {
         core::array::from_fn(|i| {
             let r = if i < n { 0.4 } else { 1.0 };
@@ -482,22 +516,15 @@ mod tests {
         let s = spheres(20);
         let materials = [GREY, LAMP];
         let sphere_material: [u32; 20] = core::array::from_fn(|i| (i % 7 == 3) as u32);
-        let mut chunks = [SphereChunk8::EMPTY; 3];
-        let mut lights = [u32::MAX; 20];
-        let size = bvh_storage_for(20);
-        let mut nodes = [BvhNode8::EMPTY; 8];
-        let mut lanes = [0.0f32; 128];
-        let mut ids = [0u32; 32];
-        assert!(size.nodes <= 8 && size.lanes <= 128 && size.ids <= 32);
-        let storage = SceneStorage {
-            chunks: &mut chunks,
-            lights: &mut lights,
-            bvh_nodes: &mut nodes,
-            bvh_lanes: &mut lanes,
-            bvh_ids: &mut ids,
-        };
-        let scene =
-            Scene::build(&s, &materials, &sphere_material, Background::Sky, storage).unwrap();
+        let mut buffers = Buffers::new();
+        let scene = Scene::build(
+            &s,
+            &materials,
+            &sphere_material,
+            Background::Sky,
+            buffers.storage(),
+        )
+        .unwrap();
         assert_eq!(scene.lights(), &[3, 10, 17]);
         assert!(scene.has_bvh());
         let ray = Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::Z);
@@ -552,21 +579,8 @@ mod tests {
             Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0),
             Sphere::new(Vec3::new(1.0e19, 0.0, 0.0), 1.0),
         ];
-        let mut chunks = [SphereChunk8::EMPTY; 1];
-        let mut lights = [0u32; 2];
-        let size = bvh_storage_for(2);
-        let mut nodes = [BvhNode8::EMPTY; 4];
-        let mut lanes = [0.0f32; 64];
-        let mut ids = [0u32; 16];
-        assert!(size.nodes <= 4 && size.lanes <= 64 && size.ids <= 16);
-        let storage = SceneStorage {
-            chunks: &mut chunks,
-            lights: &mut lights,
-            bvh_nodes: &mut nodes,
-            bvh_lanes: &mut lanes,
-            bvh_ids: &mut ids,
-        };
-        let scene = Scene::build(&s, &[GREY], &[0, 0], Background::Sky, storage).unwrap();
+        let mut buffers = Buffers::new();
+        let scene = Scene::build(&s, &[GREY], &[0, 0], Background::Sky, buffers.storage()).unwrap();
         assert!(!scene.has_bvh());
         let hit = scene.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
         assert_eq!((hit.sphere, hit.t), (0, 2.0));
