@@ -139,22 +139,29 @@ fn bvh(c: &mut Criterion) {
         g.throughput(Throughput::Elements(rays.len() as u64));
         g.bench_function("bvh", |b| {
             b.iter(|| {
+                let mut stack = BvhStack::new();
                 rays.iter()
-                    .filter(|r| tree.closest_hit(black_box(r)).is_some())
+                    .filter(|r| tree.closest_hit_with(black_box(r), &mut stack).is_some())
                     .count()
             })
         });
         g.bench_function("bvh_packet", |b| {
             b.iter(|| {
+                let mut stack = BvhStack::new();
                 packets.iter().fold(0i64, |a, p| {
                     let mut h = HitPacket8::NONE;
-                    tree.closest_hit_x8(black_box(p), &mut h, 2);
+                    tree.closest_hit_x8_with(black_box(p), &mut h, 2, &mut stack);
                     a + h.spheres()[0] as i64
                 })
             })
         });
         g.bench_function("bvh_any", |b| {
-            b.iter(|| rays.iter().filter(|r| tree.any_hit(black_box(r))).count())
+            b.iter(|| {
+                let mut stack = BvhStack::new();
+                rays.iter()
+                    .filter(|r| tree.any_hit_with(black_box(r), &mut stack))
+                    .count()
+            })
         });
         g.finish();
     }

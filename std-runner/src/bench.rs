@@ -190,9 +190,10 @@ pub fn target(ratio: &str, simd: strata::trace::SimdLevel) -> Option<f64> {
     None
 }
 
-/// Packet / scalar target of AVX2 and AVX-512 builds: every packet
-/// comparison met it in measured runs on both levels (see [`target`]).
-pub const PACKET_TARGET: f64 = 4.0;
+/// Packet / scalar target of AVX2 and AVX-512 builds: below every packet
+/// comparison's measured median on both levels (lowest 4.0×, see
+/// [`target`]), with room for a noisy host.
+pub const PACKET_TARGET: f64 = 3.5;
 
 fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<Goal> {
     let simd = strata::trace::simd_level();
@@ -202,10 +203,13 @@ fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<Goal> {
             let target = target(&r.name, simd)?;
             let measured = r.ratio.median;
             let busy = r.name.strip_suffix(" / 1 thread").and_then(|two| {
-                let c = effective_cores.iter().find(|(n, _)| n == two)?.1;
-                (c < MIN_JUDGED_CORES).then(|| {
-                    format!("busy host: {c:.2} effective cores of 2 (needs {MIN_JUDGED_CORES})")
-                })
+                match effective_cores.iter().find(|(n, _)| n == two) {
+                    None => Some("effective cores not measured on this host".to_string()),
+                    Some(&(_, c)) if c < MIN_JUDGED_CORES => Some(format!(
+                        "busy host: {c:.2} effective cores of 2 (needs {MIN_JUDGED_CORES})"
+                    )),
+                    Some(_) => None,
+                }
             });
             let verdict = match busy {
                 Some(why) => Verdict::NotJudged(why),
@@ -635,20 +639,27 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                 contender("brute 1x8", brute.len() as f64, || {
                     brute.iter().map(|r| closest(closest_hit_1x8(r, set))).sum()
                 }),
+                // One traversal stack per call, as the renderer keeps one
+                // per tile.
                 contender("bvh", n, || {
-                    rays.iter().map(|r| closest(tree.closest_hit(r))).sum()
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .map(|r| closest(tree.closest_hit_with(r, &mut stack)))
+                        .sum()
                 }),
                 contender("bvh packet", n, || {
+                    let mut stack = BvhStack::new();
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
-                        tree.closest_hit_x8(p, &mut h, 0);
+                        tree.closest_hit_x8_with(p, &mut h, 0, &mut stack);
                         a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
                 contender("bvh packet, fallback 2", n, || {
+                    let mut stack = BvhStack::new();
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
-                        tree.closest_hit_x8(p, &mut h, 2);
+                        tree.closest_hit_x8_with(p, &mut h, 2, &mut stack);
                         a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
@@ -664,7 +675,10 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     brute.iter().filter(|r| any_hit_1x8(r, set)).count() as u64
                 }),
                 contender("bvh", n, || {
-                    rays.iter().filter(|r| tree.any_hit(r)).count() as u64
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .filter(|r| tree.any_hit_with(r, &mut stack))
+                        .count() as u64
                 }),
             ],
             true,
@@ -959,6 +973,10 @@ mod tests {
         let g = goals(&ratios, &free);
         assert_eq!(g[0].verdict, Verdict::Pass);
         assert_eq!(g[1].verdict, Verdict::Fail);
+        // A host that cannot say how busy it was is not judged either.
+        let g = goals(&ratios, &free[..1]);
+        assert_eq!(g[0].verdict, Verdict::Pass);
+        assert!(matches!(&g[1].verdict, Verdict::NotJudged(why) if why.contains("not measured")));
     }
 
     #[test]

@@ -1302,6 +1302,19 @@ pub fn main_with(cli: Cli) -> Result<()> {
 mod tests {
     use super::*;
 
+    /// Every `--filter` name is a core filter kind (names are matched at
+    /// run time, so this is where a mismatch would show).
+    #[test]
+    fn every_filter_name_builds_its_filter() {
+        use clap::ValueEnum;
+        for name in FilterName::value_variants() {
+            let f = name.filter(None).unwrap();
+            let flag = name.to_possible_value().unwrap();
+            assert_eq!(f.kind().name(), flag.get_name());
+            assert_eq!(f.radius(), f.kind().default_radius());
+        }
+    }
+
     #[test]
     fn json_outputs_need_a_json_name_in_any_case() {
         let tmp = tempfile::tempdir().unwrap();

@@ -1,7 +1,9 @@
-//! Every size the runner accepts, in one place: the command line, scene
-//! files, film files, textures and the studies check against these, so a
-//! request too large is refused before any work starts (and before any
-//! memory is allocated for it).
+//! The sizes of what the runner holds in memory (images, samples, paths,
+//! textures, spectra), in one place: the command line, scene files, film
+//! files, textures and the studies check against these, so a request too
+//! large is refused before any work starts (and before any memory is
+//! allocated for it). Flags whose range is their own (threads, tile size,
+//! seeds) state it where they are declared.
 
 /// The widest (or tallest) image, in pixels; scene files may set defaults
 /// up to it too.

@@ -9,9 +9,6 @@
 //! | `adaptive` | adaptive renders are exact for any split; they stop where they should |
 //! | `prefilter` | the prefiltered checker and its ray-differential footprint |
 
-#[path = "../support/mod.rs"]
-mod support;
-
 mod adaptive;
 mod prefilter;
 mod render;

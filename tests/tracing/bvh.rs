@@ -10,8 +10,8 @@ use glam::Vec3;
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 use strata::trace::{
-    BVH_MAX_DEPTH, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, HitPacket8, Ray, RayPacket8, Sphere,
-    any_hit, bvh_storage_for, closest_hit, intersect_sphere,
+    BVH_MAX_DEPTH, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStack, HitPacket8, Ray, RayPacket8,
+    Sphere, any_hit, bvh_storage_for, closest_hit, intersect_sphere,
 };
 
 fn uniform(rng: &mut Pcg32) -> f32 {
@@ -216,6 +216,36 @@ fn bvh_matches_brute_force_bit_for_bit() {
 }
 
 /// Ties: identical spheres give the lowest index, whichever leaf holds it.
+/// One caller-owned stack serves every kind of query in any interleaving:
+/// closest hits, any hits and packets (with every fallback, so packet
+/// traversal hands subtrees to the single-ray stack mid-query), never
+/// cleared between them, and every answer is the brute-force one.
+#[test]
+fn one_stack_serves_interleaved_queries() {
+    let mut rng = Pcg32::new(11, 11);
+    let mut stack = BvhStack::new();
+    for (name, spheres) in scenes().into_iter().filter(|(_, s)| s.len() <= 1000) {
+        let mut store = Owned::new(spheres.len());
+        let bvh = store.build(&spheres);
+        let rays = rays(&spheres, 2048, &mut rng);
+        for (k, chunk) in rays.chunks(8).enumerate() {
+            let packet = RayPacket8::from_rays(chunk);
+            let mut hits = HitPacket8::NONE;
+            bvh.closest_hit_x8_with(&packet, &mut hits, [0, 2, 8][k % 3], &mut stack);
+            for (lane, ray) in chunk.iter().enumerate() {
+                let want = closest_hit(ray, &spheres);
+                assert_eq!(hits.hit(lane), want, "{name}: packet lane {lane}");
+                assert_eq!(
+                    bvh.any_hit_with(ray, &mut stack),
+                    any_hit(ray, &spheres),
+                    "{name}"
+                );
+                assert_eq!(bvh.closest_hit_with(ray, &mut stack), want, "{name}");
+            }
+        }
+    }
+}
+
 #[test]
 fn ties_go_to_the_lowest_index() {
     let mut spheres = vec![Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0); 40];

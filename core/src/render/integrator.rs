@@ -446,7 +446,7 @@ fn camera_ray<S: Sampler>(
 /// ```
 /// use glam::{UVec2, Vec3};
 /// use strata::render::*;
-/// use strata::trace::{chunks_for, Sphere, SphereChunk8, SphereSet};
+/// use strata::trace::{Sphere, SphereChunk8, SphereSet};
 /// use strata::Independent;
 /// // A white furnace: a white diffuse sphere under a sky of radiance 1.
 /// let spheres = [Sphere::new(Vec3::ZERO, 1.0)];

@@ -398,15 +398,18 @@ impl Material<'_> {
     #[inline]
     #[must_use]
     pub fn is_smooth(&self) -> bool {
-        matches!(
-            self,
+        match self {
             Material::Lambertian { .. }
-                | Material::Phong { .. }
-                | Material::Blinn { .. }
-                | Material::PhongNormalized { .. }
-                | Material::BlinnNormalized { .. }
-                | Material::CookTorrance { .. }
-        )
+            | Material::Phong { .. }
+            | Material::Blinn { .. }
+            | Material::PhongNormalized { .. }
+            | Material::BlinnNormalized { .. }
+            | Material::CookTorrance { .. } => true,
+            Material::Mirror { .. }
+            | Material::Metal { .. }
+            | Material::Dielectric { .. }
+            | Material::DiffuseLight { .. } => false,
+        }
     }
 
     /// The BRDF `f(V, L)` of a smooth material (0 for the others), for

@@ -111,22 +111,14 @@ impl core::fmt::Display for SceneError {
                 f,
                 "light storage too small: {needed} entries needed, {provided} given"
             ),
-            SceneError::Bvh(e) => e.fmt(f),
+            SceneError::Bvh(e) => write!(f, "BVH: {e}"),
         }
     }
 }
 
-impl core::error::Error for SceneError {
-    #[inline]
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            SceneError::Material { error, .. } => Some(error),
-            SceneError::Set(e) => Some(e),
-            SceneError::Bvh(e) => Some(e),
-            _ => None,
-        }
-    }
-}
+// The inner errors' text is part of `Display`, so they are not also
+// given as `source` (a chained report would print them twice).
+impl core::error::Error for SceneError {}
 
 /// A scene for [`super::render_tile`]. Sphere `i` has material
 /// `materials[sphere_material[i]]`; `lights` lists, in increasing order,
@@ -197,7 +189,7 @@ impl SceneStorageSize {
 }
 
 /// The caller's memory a [`Scene`] is built into by [`Scene::build`],
-/// sized by [`SceneStorageSize`]. Empty BVH slices mean no BVH.
+/// sized by [`SceneStorageSize`]. Empty `bvh_nodes` means no BVH.
 #[derive(Debug)]
 pub struct SceneStorage<'a> {
     /// The spheres as 8-wide chunks.
@@ -214,14 +206,15 @@ pub struct SceneStorage<'a> {
 
 impl<'a> Scene<'a> {
     /// Builds a scene into the caller's `storage`: the 8-wide sphere set,
-    /// the light list, and, if `storage` has BVH slices, a BVH (traced
-    /// without it where a sphere lies beyond the BVH's coordinate range:
+    /// the light list, and, if `storage` has BVH nodes, a BVH (traced
+    /// without it where the BVH cannot hold the spheres: beyond its
+    /// coordinate range or [`BVH_MAX_SPHERES`](crate::trace::BVH_MAX_SPHERES);
     /// brute force gives the same hits). Then checks it as [`Scene::new`].
     ///
     /// ```
     /// use glam::Vec3;
     /// use strata::render::{Background, Material, Scene, SceneStorage, SceneStorageSize, Texture};
-    /// use strata::trace::{BvhNode8, Ray, Sphere, SphereChunk8};
+    /// use strata::trace::{Ray, Sphere, SphereChunk8};
     /// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
     /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) }];
     /// let size = SceneStorageSize::for_spheres(spheres.len(), false);
@@ -255,6 +248,9 @@ impl<'a> Scene<'a> {
             bvh_lanes,
             bvh_ids,
         } = storage;
+        if sphere_material.len() != spheres.len() {
+            return Err(SceneError::Mismatch);
+        }
         let set = SphereSet::build(spheres, chunks).map_err(SceneError::Set)?;
         let provided = lights.len();
         let n = collect_lights(materials, sphere_material, lights).ok_or_else(|| {
@@ -281,12 +277,13 @@ impl<'a> Scene<'a> {
         }
         match Bvh::build(spheres, bvh_nodes, bvh_lanes, bvh_ids) {
             Ok(bvh) => scene.with_bvh(bvh),
-            Err(BvhError::SphereOutOfRange { .. }) => Ok(scene),
+            Err(BvhError::SphereOutOfRange { .. } | BvhError::TooManySpheres) => Ok(scene),
             Err(e) => Err(SceneError::Bvh(e)),
         }
     }
 
-    /// Checks and assembles a scene. `set` must be built from `spheres`.
+    /// Checks and assembles a scene from parts the caller built. `set` must
+    /// be built from `spheres`. [`Scene::build`] builds the parts too.
     #[inline]
     pub fn new(
         spheres: &'a [Sphere],
@@ -360,7 +357,10 @@ impl<'a> Scene<'a> {
     #[inline]
     #[must_use]
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        self.closest_hit_with(ray, &mut BvhStack::new())
+        match &self.bvh {
+            Some(b) => b.closest_hit(ray),
+            None => closest_hit_1x8(ray, &self.set),
+        }
     }
 
     /// [`Scene::closest_hit`] on the caller's reusable traversal `stack`.
@@ -377,7 +377,10 @@ impl<'a> Scene<'a> {
     #[inline]
     #[must_use]
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        self.any_hit_with(ray, &mut BvhStack::new())
+        match &self.bvh {
+            Some(b) => b.any_hit(ray),
+            None => any_hit_1x8(ray, &self.set),
+        }
     }
 
     /// [`Scene::any_hit`] on the caller's reusable traversal `stack`.
@@ -394,7 +397,10 @@ impl<'a> Scene<'a> {
     /// if attached).
     #[inline]
     pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8) {
-        self.closest_hit_x8_with(packet, hits, &mut BvhStack::new());
+        match &self.bvh {
+            Some(b) => b.closest_hit_x8(packet, hits, PACKET_FALLBACK),
+            None => closest_hit_x8(packet, &self.set, hits),
+        }
     }
 
     /// [`Scene::closest_hit_x8`] on the caller's reusable traversal `stack`.

@@ -537,7 +537,7 @@ impl HitPacket8 {
 /// lane the same bits.
 ///
 /// `hits` is read and updated: a lane takes a sphere only if it is strictly
-/// closer than the lane's current `hits.t`, so a fresh [`HitPacket8::NONE`]
+/// closer than the lane's current [`HitPacket8::t`], so a fresh [`HitPacket8::NONE`]
 /// gives the closest hit (a NaN `t` passed in never updates). Sphere
 /// indices are those of `set`. Inactive lanes are not written.
 ///
