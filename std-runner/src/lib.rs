@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod cli;
+pub mod commands;
 pub mod film_file;
 pub mod golden;
 pub mod hash;

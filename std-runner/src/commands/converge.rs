@@ -1,0 +1,152 @@
+//! `strata converge`: RMSE against spp for every sampler, against a cached
+//! high-spp reference, as a CSV, a log–log plot and fitted slopes.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use strata::render::Tile;
+
+use crate::cli::ConvergeArgs;
+use crate::commands::{check_output_ext, height_for, resolve_scene, window_of};
+use crate::image_io::{say, write_atomic};
+use crate::limits::MAX_PIXELS;
+use crate::render::SamplerKind;
+
+/// Runs `strata converge`.
+pub fn converge(args: &ConvergeArgs) -> Result<()> {
+    use crate::study::{self, View};
+    let scene = resolve_scene(&args.scene)?;
+    let width = args.width.unwrap_or(scene.defaults.width);
+    let height = height_for(&scene, width)?;
+    if width as u64 * height as u64 > MAX_PIXELS {
+        bail!("{width} x {height} is over {MAX_PIXELS} pixels");
+    }
+    let window = match args.pixel_bounds {
+        Some(b) => window_of(b, width, height)?,
+        None => Tile {
+            x0: width / 4,
+            y0: height / 4,
+            width: (width / 2).max(1),
+            height: (height / 2).max(1),
+        },
+    };
+    let mut spps = vec![1u32, 4, 16, 64, 256];
+    if args.with_1024 {
+        spps.push(1024);
+    }
+    let top = *spps.last().expect("spp list");
+    // The reference's own error adds to every measured point: at 16 times
+    // the largest spp it adds at most about 3 % to the last point's RMSE.
+    if args.reference_spp < 16 * top {
+        bail!(
+            "--reference-spp {} must be at least 16 x {top} (the largest measured spp)",
+            args.reference_spp
+        );
+    }
+    let samplers = if args.samplers.is_empty() {
+        SamplerKind::ALL.to_vec()
+    } else {
+        // In the order given, each once.
+        let mut v = args.samplers.clone();
+        let mut seen = Vec::new();
+        v.retain(|s| {
+            let first = !seen.contains(s);
+            seen.push(*s);
+            first
+        });
+        v
+    };
+    let csv_path = args
+        .csv
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.csv", scene.name)));
+    let plot_path = args
+        .plot
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.png", scene.name)));
+    check_output_ext(&csv_path, "csv", "--csv")?;
+    check_output_ext(&plot_path, "png", "--plot")?;
+    let cache_dir = args
+        .cache_dir
+        .clone()
+        .unwrap_or_else(study::default_cache_dir);
+
+    let view = View {
+        scene: &scene,
+        width,
+        height,
+        window,
+        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: args.threads as usize,
+        texture_filter: strata::render::TextureFilter::None,
+    };
+    let started = std::time::Instant::now();
+    let (reference, cached) = study::reference(&view, args.reference_spp, &cache_dir)?;
+    say(&format!(
+        "{}: {}x{} crop at ({}, {}) of {}x{}, depth {}; reference: sobol {} spp, {}",
+        scene.name,
+        window.width,
+        window.height,
+        window.x0,
+        window.y0,
+        width,
+        height,
+        view.max_depth,
+        args.reference_spp,
+        if cached {
+            "cached".to_string()
+        } else {
+            format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
+        }
+    ));
+    let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
+
+    let title = format!(
+        "{}: RMSE of a {}x{} crop vs spp",
+        scene.name, window.width, window.height
+    );
+    let plot = study::plot_convergence(&points, &samplers, &title, 800, 560)?;
+    let text = study::csv(&points);
+    study::write_png(&plot_path, &plot, 800, 560)?;
+    // Both files or neither.
+    if let Err(e) = write_atomic(&csv_path, |tmp| Ok(std::fs::write(tmp, &text)?)) {
+        std::fs::remove_file(&plot_path).ok();
+        return Err(e.context(format!("writing `{}`", csv_path.display())));
+    }
+
+    let mut table = format!("{:<12}", "sampler");
+    for spp in &spps {
+        write!(table, " {:>9}", format!("{spp} spp")).ok();
+    }
+    table.push_str("  slope  slope>=16");
+    for &s in &samplers {
+        let line = study::series(&points, s);
+        write!(
+            table,
+            "
+{:<12}",
+            s.name()
+        )
+        .ok();
+        for &(_, e) in &line {
+            write!(table, " {e:>9.2e}").ok();
+        }
+        let tail: Vec<_> = line.iter().copied().filter(|&(x, _)| x >= 16.0).collect();
+        let fmt = |k: Option<f64>| k.map_or("-".into(), |k| format!("{k:.2}"));
+        write!(
+            table,
+            "  {:>5} {:>10}",
+            fmt(study::log_log_slope(&line)),
+            fmt(study::log_log_slope(&tail))
+        )
+        .ok();
+    }
+    say(&table);
+    say(&format!(
+        "wrote {} and {}",
+        csv_path.display(),
+        plot_path.display()
+    ));
+    Ok(())
+}

@@ -1,0 +1,59 @@
+//! `strata merge`: partial films into one image or film, every part
+//! checked before anything is written.
+
+use anyhow::{Result, bail};
+
+use crate::cli::MergeArgs;
+use crate::commands::check_output_ext;
+use crate::commands::output::{
+    check_output_or_film, same_path, write_film_or_image, write_spp_map,
+};
+use crate::film_file::Film;
+use crate::image_io::say;
+
+/// Runs `strata merge`: every part is read and checked before the output
+/// is written; a refused merge writes nothing.
+pub fn merge(args: &MergeArgs) -> Result<()> {
+    check_output_or_film(&args.output)?;
+    if let Ok(out) = args.output.canonicalize()
+        && let Some(p) = args
+            .parts
+            .iter()
+            .find(|p| p.canonicalize().is_ok_and(|p| p == out))
+    {
+        bail!("the output `{}` is one of the parts", p.display());
+    }
+    let parts: Vec<Film> = args
+        .parts
+        .iter()
+        .map(|p| Film::read(p))
+        .collect::<Result<_>>()?;
+    if let Some(map) = &args.spp_map {
+        check_output_ext(map, "png", "--spp-map")?;
+        if same_path(map, &args.output) || args.parts.iter().any(|p| same_path(map, p)) {
+            bail!(
+                "--spp-map `{}` is the output or one of the parts",
+                map.display()
+            );
+        }
+    }
+    let film = crate::film_file::merge(&parts, &args.parts)?;
+    write_film_or_image(&args.output, &film, args.gamma)?;
+    if let Some(map) = &args.spp_map
+        && let Err(e) = write_spp_map(map, &film)
+    {
+        std::fs::remove_file(&args.output).ok();
+        return Err(e);
+    }
+    say(&format!(
+        "merged {} part{}: {} {}x{}, {} spp, to {}",
+        parts.len(),
+        if parts.len() == 1 { "" } else { "s" },
+        film.key.get("scene").unwrap_or("?"),
+        film.key.width(),
+        film.key.height(),
+        film.key.spp(),
+        args.output.display()
+    ));
+    Ok(())
+}
