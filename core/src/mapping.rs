@@ -24,7 +24,8 @@
 //! (concentric disk); Malley's method (cosine hemisphere by lifting a disk
 //! point); Pharr, Jakob and Humphreys, *Physically Based Rendering* 4th ed.,
 //! A.5 (sphere, hemisphere, cone, inverses). The course's rejection methods
-//! are in [`rejection`], for comparison.
+//! are in [`rejection`], for comparison. [`PiecewiseConstant2D`] is the
+//! tabulated density for shapes without a closed form.
 
 use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
@@ -32,7 +33,10 @@ use glam::{Vec2, Vec3};
 
 use crate::rng::ONE_MINUS_EPSILON;
 
+mod piecewise;
 pub mod rejection;
+
+pub use piecewise::{PIECEWISE_2D_SIZE, PiecewiseConstant2D};
 
 /// `1 / (4π)`.
 const INV_4PI: f32 = FRAC_1_PI / 4.0;
