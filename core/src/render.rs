@@ -19,17 +19,17 @@ mod integrator;
 mod material;
 mod scene;
 mod texture;
+mod tile;
 
 pub use crate::filter::PixelFilter;
 pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PixelError};
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum};
-pub use integrator::{
-    RenderError, RenderSettings, Tile, TileStats, pixel_sample, render_tile, render_tile_adaptive,
-};
+pub use integrator::{RenderSettings, pixel_sample};
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
+pub use tile::{RenderError, Tile, TileStats, render_tile, render_tile_adaptive};
 
 /// The revision of what renders compute: raised whenever a change alters
 /// an existing output (a pixel, a scene hash, a file's bytes; the output
