@@ -54,7 +54,7 @@
 
 use wide::{f32x8, i32x8};
 
-use super::lanes::{lanes_bitmask, lanes_select, lanes_select_i32};
+use super::lanes::{lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits};
 use super::packet::HitPacket8;
 use super::{Hit, Ray, RayPacket8, Sphere, sphere_t};
 
@@ -971,7 +971,7 @@ impl<'a> Bvh<'a> {
                 bi = i32x8::new(is);
                 continue;
             }
-            let lane_on = lane_mask(mask);
+            let lane_on = mask_from_bits(mask);
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
@@ -1042,7 +1042,7 @@ impl<'a> Bvh<'a> {
                 sp += 1;
             }
         }
-        let take = bt.simd_lt(hits.t) & lane_mask(active as u8);
+        let take = bt.simd_lt(hits.t) & mask_from_bits(active as u8);
         hits.t = lanes_select(take, bt, hits.t);
         hits.sphere = lanes_select_i32(take, bi, hits.sphere);
     }
@@ -1081,15 +1081,4 @@ fn inv8(d: f32x8) -> f32x8 {
     let zero = d.simd_eq(f32x8::splat(0.0));
     let d = lanes_select(zero, lanes_select(negative, neg_tiny, tiny), d);
     f32x8::splat(1.0) / d
-}
-
-fn lane_mask(bits: u8) -> f32x8 {
-    let on = |k: u32| {
-        if bits >> k & 1 == 1 {
-            f32::from_bits(u32::MAX)
-        } else {
-            0.0
-        }
-    };
-    f32x8::new([on(0), on(1), on(2), on(3), on(4), on(5), on(6), on(7)])
 }

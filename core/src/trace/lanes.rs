@@ -134,3 +134,9 @@ pub(crate) fn lanes_bitmask(mask: f32x8) -> u32 {
 pub(crate) fn mask_from_bools(b: [bool; 8]) -> f32x8 {
     f32x8::new(b.map(|x| if x { f32::from_bits(u32::MAX) } else { 0.0 }))
 }
+
+/// A mask with lane `k` set where bit `k` of `bits` is.
+#[inline(always)]
+pub(crate) fn mask_from_bits(bits: u8) -> f32x8 {
+    mask_from_bools(core::array::from_fn(|k| bits >> k & 1 == 1))
+}

@@ -13,7 +13,9 @@
 use glam::Vec3;
 use wide::{f32x8, i32x8};
 
-use super::lanes::{Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bools};
+use super::lanes::{
+    Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits, mask_from_bools,
+};
 use super::{Hit, Ray, Sphere, sphere_t};
 
 /// Eight spheres as structure of arrays: one 8-lane vector per coordinate
@@ -423,7 +425,7 @@ impl RayPacket8 {
     #[must_use]
     pub fn with_active_bits(self, bits: u8) -> Self {
         Self {
-            active: mask_from_bools(core::array::from_fn(|k| bits >> k & 1 == 1)),
+            active: mask_from_bits(bits),
             ..self
         }
     }
