@@ -58,22 +58,10 @@ fn allocations_do_not_grow_with_samples() {
         let scene = built_in(name).unwrap();
         let count = |spp: u32| {
             let job = Job {
-                scene: &scene,
-                width: 48,
-                height: 27,
-                window: strata::render::Tile::whole(48, 27),
-                spp,
-                samples: 0..spp,
                 max_depth: 8,
                 sampler: SamplerKind::Stratified,
                 seed: 1,
-                threads: 2,
-                tile: 16,
-                direct_lighting: true,
-                bvh: strata_runner::scenes::BvhMode::Auto,
-                filter: strata::render::PixelFilter::BOX,
-                texture_filter: strata::render::TextureFilter::None,
-                adaptive: None,
+                ..Job::new(&scene, 48, 27, spp)
             };
             // Once to warm up the thread pool's lazy state, then measured.
             run(&job, &|_| {}).unwrap();

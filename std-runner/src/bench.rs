@@ -32,7 +32,7 @@ use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
 use strata::{Halton, Independent, Sobol, Stratified, UniformGrid};
 
-use crate::render::{Job, SamplerKind, run};
+use crate::render::{Job, run};
 use crate::scenes::{SceneBuffers, built_in};
 use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
 
@@ -716,22 +716,9 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
     for (name, spp, depth) in [("week09", 32u32, 5u32), ("cover", 8, 50)] {
         let scene = built_in(name).ok_or_else(|| anyhow::anyhow!("no built-in scene `{name}`"))?;
         let job = |threads| Job {
-            scene: &scene,
-            width: 320,
-            height: 180,
-            window: strata::render::Tile::whole(320, 180),
-            spp,
-            samples: 0..spp,
             max_depth: depth,
-            sampler: SamplerKind::Independent,
-            seed: 0,
             threads,
-            tile: 16,
-            direct_lighting: true,
-            bvh: crate::scenes::BvhMode::Auto,
-            filter: strata::render::PixelFilter::BOX,
-            texture_filter: strata::render::TextureFilter::None,
-            adaptive: None,
+            ..Job::new(&scene, 320, 180, spp)
         };
         let probe = run(&job(1), &|_| {})?;
         let paths = probe.stats.paths as f64;
@@ -772,22 +759,9 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
     // force: the throughput figure.
     let scene = built_in("cover").ok_or_else(|| anyhow::anyhow!("no built-in scene `cover`"))?;
     let job = |bvh| Job {
-        scene: &scene,
-        width: 400,
-        height: 225,
-        window: strata::render::Tile::whole(400, 225),
-        spp: 32,
-        samples: 0..32,
         max_depth: 50,
-        sampler: SamplerKind::Independent,
-        seed: 0,
-        threads: 2,
-        tile: 16,
-        direct_lighting: true,
         bvh,
-        filter: strata::render::PixelFilter::BOX,
-        texture_filter: strata::render::TextureFilter::None,
-        adaptive: None,
+        ..Job::new(&scene, 400, 225, 32)
     };
     let render = |name: &str, bvh| -> Contender<'_> {
         let j = job(bvh);

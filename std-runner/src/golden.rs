@@ -30,7 +30,7 @@ use crate::film_file::{Film, RenderKey};
 use crate::hash::Fnv;
 use crate::image_io::Transfer;
 use crate::render::{Job, SamplerKind, run};
-use crate::scenes::{BUILT_IN, BvhMode, SceneData, built_in};
+use crate::scenes::{BUILT_IN, SceneData, built_in};
 
 /// Image size of a golden render.
 pub const SIZE: (u32, u32) = (32, 18);
@@ -244,22 +244,12 @@ pub fn render_hash(scene: &SceneData, sampler: SamplerKind, threads: usize) -> R
 pub fn job(scene: &SceneData, sampler: SamplerKind, threads: usize) -> Job<'_> {
     let (width, height) = SIZE;
     Job {
-        scene,
-        width,
-        height,
-        window: strata::render::Tile::whole(width, height),
-        spp: SPP,
-        samples: 0..SPP,
         max_depth: DEPTH,
         sampler,
         seed: SEED,
         threads,
         tile: 8,
-        direct_lighting: true,
-        bvh: BvhMode::Auto,
-        filter: strata::render::PixelFilter::BOX,
-        texture_filter: strata::render::TextureFilter::None,
-        adaptive: None,
+        ..Job::new(scene, width, height, SPP)
     }
 }
 

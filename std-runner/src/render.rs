@@ -117,6 +117,35 @@ pub struct Job<'a> {
     pub texture_filter: strata::render::TextureFilter,
 }
 
+impl<'a> Job<'a> {
+    /// A whole `width × height` render of `scene` at `spp`, with the
+    /// defaults of `strata render`: the scene's depth, the independent
+    /// sampler, seed 0, 2 threads in tiles of 16, direct lighting, the BVH
+    /// where it pays, the box filter, no texture filter, no adaptive
+    /// sampling. Change what differs with struct update syntax.
+    #[must_use]
+    pub fn new(scene: &'a SceneData, width: u32, height: u32, spp: u32) -> Self {
+        Job {
+            scene,
+            width,
+            height,
+            window: Tile::whole(width, height),
+            spp,
+            samples: 0..spp,
+            max_depth: scene.defaults.max_depth,
+            sampler: SamplerKind::Independent,
+            seed: 0,
+            threads: 2,
+            tile: 16,
+            direct_lighting: true,
+            bvh: BvhMode::Auto,
+            filter: strata::render::PixelFilter::BOX,
+            adaptive: None,
+            texture_filter: strata::render::TextureFilter::None,
+        }
+    }
+}
+
 /// A finished render.
 #[derive(Debug)]
 pub struct Rendered {

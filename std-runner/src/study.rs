@@ -83,22 +83,13 @@ impl View<'_> {
     /// pixel means (row-major within the window).
     pub fn render(&self, sampler: SamplerKind, spp: u32, seed: u64) -> Result<Vec<Vec3>> {
         let job = Job {
-            scene: self.scene,
-            width: self.width,
-            height: self.height,
             window: self.window,
-            spp,
-            samples: 0..spp,
             max_depth: self.max_depth,
             sampler,
             seed,
             threads: self.threads,
-            tile: 16,
-            direct_lighting: true,
-            bvh: crate::scenes::BvhMode::Auto,
-            filter: strata::render::PixelFilter::BOX,
             texture_filter: self.texture_filter,
-            adaptive: None,
+            ..Job::new(self.scene, self.width, self.height, spp)
         };
         Ok(run(&job, &|_| {})?
             .pixels

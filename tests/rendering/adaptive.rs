@@ -7,26 +7,15 @@ use std::path::PathBuf;
 use strata::render::{Adaptive, PixelFilter, PixelSum, Tile};
 use strata_runner::film_file::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
-use strata_runner::scenes::{BvhMode, SceneData, built_in};
+use strata_runner::scenes::{SceneData, built_in};
 
 fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'_> {
     Job {
-        scene,
-        width,
-        height,
-        window: Tile::whole(width, height),
-        spp,
-        samples: 0..spp,
         max_depth: 5,
-        sampler: SamplerKind::Independent,
         seed,
         threads: 1,
         tile: 8,
-        direct_lighting: true,
-        bvh: BvhMode::Auto,
-        filter: PixelFilter::BOX,
-        texture_filter: strata::render::TextureFilter::None,
-        adaptive: None,
+        ..Job::new(scene, width, height, spp)
     }
 }
 

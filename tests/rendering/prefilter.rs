@@ -3,10 +3,10 @@
 //! and less error than point sampling on the aliasing demo's plane.
 
 use glam::{Vec2, Vec3};
-use strata::render::{PixelFilter, Texture, TextureFilter};
+use strata::render::{Texture, TextureFilter};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata_runner::render::{Job, SamplerKind, run};
-use strata_runner::scenes::{BvhMode, SceneData, built_in};
+use strata_runner::scenes::{SceneData, built_in};
 use strata_runner::study::rmse;
 
 #[test]
@@ -70,22 +70,10 @@ fn the_closed_form_is_the_box_average_of_the_checker() {
 
 fn job(scene: &SceneData, w: u32, h: u32, sampler: SamplerKind, spp: u32, seed: u64) -> Job<'_> {
     Job {
-        scene,
-        width: w,
-        height: h,
-        window: strata::render::Tile::whole(w, h),
-        spp,
-        samples: 0..spp,
         max_depth: 2,
         sampler,
         seed,
-        threads: 2,
-        tile: 16,
-        direct_lighting: true,
-        bvh: BvhMode::Auto,
-        filter: PixelFilter::BOX,
-        adaptive: None,
-        texture_filter: TextureFilter::None,
+        ..Job::new(scene, w, h, spp)
     }
 }
 

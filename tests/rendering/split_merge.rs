@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use strata::render::{PixelSum, Tile};
 use strata_runner::film_file::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
-use strata_runner::scenes::{BvhMode, SceneData, built_in};
+use strata_runner::scenes::{SceneData, built_in};
 
 const W: u32 = 19;
 const H: u32 = 11;
@@ -23,22 +23,14 @@ fn job(
     samples: std::ops::Range<u32>,
 ) -> Job<'_> {
     Job {
-        scene,
-        width: W,
-        height: H,
         window,
-        spp: SPP,
         samples,
         max_depth: 4,
         sampler,
         seed,
         threads: 1,
         tile: 4,
-        direct_lighting: true,
-        bvh: BvhMode::Auto,
-        filter: strata::render::PixelFilter::BOX,
-        texture_filter: strata::render::TextureFilter::None,
-        adaptive: None,
+        ..Job::new(scene, W, H, SPP)
     }
 }
 

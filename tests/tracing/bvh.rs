@@ -383,22 +383,11 @@ fn renders_are_identical_with_and_without_the_bvh() {
         let scene = built_in(name).unwrap();
         for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
             let job = |bvh| Job {
-                scene: &scene,
-                width: 64,
-                height: 36,
-                window: strata::render::Tile::whole(64, 36),
-                spp: 4,
-                samples: 0..4,
                 max_depth: 50,
                 sampler,
                 seed: 3,
-                threads: 2,
-                tile: 16,
-                direct_lighting: true,
                 bvh,
-                filter: strata::render::PixelFilter::BOX,
-                texture_filter: strata::render::TextureFilter::None,
-                adaptive: None,
+                ..Job::new(&scene, 64, 36, 4)
             };
             let on = run(&job(BvhMode::On), &|_| {}).unwrap();
             let off = run(&job(BvhMode::Off), &|_| {}).unwrap();
