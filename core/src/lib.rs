@@ -17,7 +17,9 @@
 //!   generator;
 //! - dimensions are consumed in a fixed order ([`sampler`]);
 //! - no multiply-add is fused and transcendental functions come from
-//!   `libm`, so the same inputs give the same bits on every x86-64 CPU;
+//!   `libm`, so the same inputs give the same bits on every CPU (x86-64
+//!   at any SIMD level, aarch64, WebAssembly; CI checks them against
+//!   locked values);
 //! - the scalar and SIMD ray–sphere kernels are one function written for
 //!   both `f32` and `f32x8`, so every path returns the same hit.
 //!
@@ -27,10 +29,11 @@
 //! |---|---|
 //! | [`rng`] | per-sample stream derivation, `u32 → f32` in `[0, 1)` |
 //! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`], [`Sobol`], [`Halton`] |
-//! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone; [`mapping::rejection`] keeps the course's methods |
+//! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone, the tabulated [`mapping::PiecewiseConstant2D`]; [`mapping::rejection`] keeps the course's methods |
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
 //! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
-//! | [`render`] | camera, textures, materials, sphere lights, the exact film, the path tracer and [`render::render_tile`] |
+//! | [`render`] | camera, textures, materials, sphere lights, [`render::Scene::build`], the exact film, the path tracer and tiles ([`render::render_tile`]) |
+//! | [`filter`] | pixel filters applied by importance sampling |
 //!
 //! ## Example
 //!
