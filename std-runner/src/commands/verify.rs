@@ -10,7 +10,7 @@ use crate::image_io::say;
 pub fn verify(args: &VerifyArgs) -> Result<()> {
     use crate::golden;
     say(&format!(
-        "{}: golden renders {}x{}, {} spp, seed {}, depth {}",
+        "{}: golden rows (renders {}x{}, {} spp, seed {}, depth {}; scene hashes; file bytes)",
         crate::version_line(),
         golden::SIZE.0,
         golden::SIZE.1,
