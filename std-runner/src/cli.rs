@@ -43,7 +43,7 @@ pub enum Command {
     /// Render a scene to a PNG or EXR image.
     Render(RenderArgs),
     /// Measure sampling, intersection and rendering throughput (see the
-    /// suite in `std-runner/src/bench.rs`); prints a table.
+    /// suite in `std-runner/src/bench/`); prints a table.
     Bench(BenchArgs),
     /// Measure how fast each sampler's error falls with spp: RMSE of a
     /// crop against a cached high-spp reference, as CSV, a log–log plot

@@ -1,0 +1,467 @@
+//! The suite of `strata bench`: the fixed workloads and comparisons
+//! (documented in the module docs of `crate::bench`).
+
+use anyhow::Result;
+use glam::{Vec2, Vec3};
+use strata::mapping::{self, Cone, rejection};
+use strata::rng::{Pcg32, STREAM, next_f32};
+use strata::trace::*;
+use strata::{Halton, Independent, Sobol, Stratified, UniformGrid};
+
+use crate::render::{Job, run};
+use crate::scenes::{SceneBuffers, built_in};
+use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
+
+use super::harness::{Contender, Done, Options, Report, Suite, contender, cpu_model, goals};
+
+fn uniforms(n: usize) -> Vec<Vec2> {
+    let mut rng = Pcg32::new(7, STREAM);
+    (0..n)
+        .map(|_| Vec2::new(next_f32(&mut rng), next_f32(&mut rng)))
+        .collect()
+}
+
+fn checksum(v: Vec3) -> u64 {
+    (v.x + v.y + v.z).to_bits() as u64
+}
+
+fn sampling(s: &mut Suite<'_>) -> Result<()> {
+    const N: usize = 1 << 16;
+    let us = uniforms(N);
+    let cone = Cone::from_cos(0.8);
+    let us = &us;
+    // Generic over the mapping so each call inlines, like the cone's.
+    fn map3<'a>(us: &'a [Vec2], f: impl Fn(Vec2) -> Vec3 + 'a) -> impl FnMut() -> u64 + 'a {
+        move || checksum(us.iter().fold(Vec3::ZERO, |a, &u| a + f(u)))
+    }
+    let mut cs = vec![
+        contender(
+            "uniform_sphere",
+            N as f64,
+            map3(us, mapping::sample_uniform_sphere),
+        ),
+        contender(
+            "uniform_hemisphere",
+            N as f64,
+            map3(us, mapping::sample_uniform_hemisphere),
+        ),
+        contender(
+            "cosine_hemisphere",
+            N as f64,
+            map3(us, mapping::sample_cosine_hemisphere),
+        ),
+    ];
+    cs.push(contender("uniform_cone", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_uniform_cone(u, cone)
+        }))
+    }));
+    cs.push(contender("concentric_disk", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_concentric_disk(u).extend(0.0)
+        }))
+    }));
+    cs.push(contender("polar_disk", N as f64, || {
+        checksum(us.iter().fold(Vec3::ZERO, |a, &u| {
+            a + mapping::sample_polar_disk(u).extend(0.0)
+        }))
+    }));
+    s.compare("sampling", "mapping", "samples", cs, false)?;
+
+    let rng = std::cell::RefCell::new(Pcg32::new(1, STREAM));
+    let draw = |f: &dyn Fn(&mut Pcg32) -> Vec3| {
+        let mut r = rng.borrow_mut();
+        checksum((0..N).fold(Vec3::ZERO, |a, _| a + f(&mut r)))
+    };
+    let u2 = |r: &mut Pcg32| Vec2::new(next_f32(r), next_f32(r));
+    s.compare(
+        "sampling",
+        "disk",
+        "samples",
+        vec![
+            contender("concentric", N as f64, || {
+                draw(&|r| mapping::sample_concentric_disk(u2(r)).extend(0.0))
+            }),
+            contender("polar", N as f64, || {
+                draw(&|r| mapping::sample_polar_disk(u2(r)).extend(0.0))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_unit_disk(r).extend(0.0))
+            }),
+        ],
+        true,
+    )?;
+    s.compare(
+        "sampling",
+        "sphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_uniform_sphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_unit_sphere(r))
+            }),
+        ],
+        true,
+    )?;
+    s.compare(
+        "sampling",
+        "cosine_hemisphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_cosine_hemisphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_cosine_hemisphere(r))
+            }),
+        ],
+        true,
+    )?;
+
+    s.compare(
+        "sampling",
+        "uniform_hemisphere",
+        "samples",
+        vec![
+            contender("analytic", N as f64, || {
+                draw(&|r| mapping::sample_uniform_hemisphere(u2(r)))
+            }),
+            contender("rejection", N as f64, || {
+                draw(&|r| rejection::rejection_uniform_hemisphere(r))
+            }),
+        ],
+        true,
+    )?;
+
+    const SPP: u32 = 16;
+    let units = (16 * 16 * SPP) as f64;
+    let mut ind = Independent::new(SPP, 1).expect("spp > 0");
+    let mut grid = UniformGrid::new(SPP, 1).expect("spp > 0");
+    let mut st = Stratified::new(SPP, 1).expect("spp > 0");
+    let mut sob = Sobol::new(SPP, 1).expect("spp > 0");
+    let mut hal = Halton::new(SPP, 1).expect("spp > 0");
+    s.compare(
+        "sampling",
+        "sampler",
+        "pixel samples",
+        vec![
+            contender("independent", units, || {
+                sampler_pattern(&mut ind, SPP).to_bits() as u64
+            }),
+            contender("grid", units, || {
+                sampler_pattern(&mut grid, SPP).to_bits() as u64
+            }),
+            contender("stratified", units, || {
+                sampler_pattern(&mut st, SPP).to_bits() as u64
+            }),
+            contender("sobol", units, || {
+                sampler_pattern(&mut sob, SPP).to_bits() as u64
+            }),
+            contender("halton", units, || {
+                sampler_pattern(&mut hal, SPP).to_bits() as u64
+            }),
+        ],
+        true,
+    )?;
+    Ok(())
+}
+
+fn intersection(s: &mut Suite<'_>) -> Result<()> {
+    for w in trace_workloads() {
+        let mut buffers = SceneBuffers::new(w.spheres.len(), false);
+        let (set, _) = buffers.trace(&w.spheres)?;
+        let spheres = &w.spheres;
+        let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
+        let n = w.rays.len() as f64;
+        let rays = &w.rays;
+        let first = s.figures.len();
+        s.compare(
+            "intersection",
+            &format!("closest/{}", w.name),
+            "rays",
+            vec![
+                contender("scalar", n, || {
+                    rays.iter()
+                        .filter(|r| closest_hit(r, spheres).is_some())
+                        .count() as u64
+                }),
+                contender("1x8", n, || {
+                    rays.iter()
+                        .filter(|r| closest_hit_1x8(r, &set).is_some())
+                        .count() as u64
+                }),
+                contender("packet", n, || {
+                    packets
+                        .iter()
+                        .map(|p| {
+                            let mut h = HitPacket8::NONE;
+                            closest_hit_x8(p, &set, &mut h);
+                            h.hit_bits().count_ones() as u64
+                        })
+                        .sum()
+                }),
+            ],
+            true,
+        )?;
+        let shadows = shadow_rays(spheres, rays, w.light);
+        let shadow_packets: Vec<RayPacket8> =
+            shadows.chunks(8).map(RayPacket8::from_rays).collect();
+        let m = shadows.len() as f64;
+        let sh = &shadows;
+        s.compare(
+            "intersection",
+            &format!("shadow/{}", w.name),
+            "rays",
+            vec![
+                contender("scalar", m, || {
+                    sh.iter().filter(|r| any_hit(r, spheres)).count() as u64
+                }),
+                contender("1x8", m, || {
+                    sh.iter().filter(|r| any_hit_1x8(r, &set)).count() as u64
+                }),
+                contender("packet", m, || {
+                    shadow_packets
+                        .iter()
+                        .map(|p| any_hit_x8(p, &set).count_ones() as u64)
+                        .sum()
+                }),
+            ],
+            true,
+        )?;
+        // Closest-hit rays test every sphere: tests/s = rays/s × spheres.
+        for f in &mut s.figures[first..first + 3] {
+            f.extra.push((
+                "M tests/s".into(),
+                f.mega_per_s.median * spheres.len() as f64,
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The BVH against the brute-force 8-wide loop, one ray at a time and in
+/// packets: closest and any hit on the cover layout (camera rays of the
+/// cover camera at 1280 × 720; 10⁶ incoherent rays from
+/// `[-11, 11] × [0, 2] × [-11, 11]`, directions uniform on the sphere) and
+/// on 10 000 random spheres (10⁶ incoherent rays from their box); then the
+/// build time of 10⁶ spheres. Brute force traces the first 20 000 rays of
+/// the 10 000-sphere workload (rates are per ray).
+fn bvh(s: &mut Suite<'_>) -> Result<()> {
+    use crate::workload::{
+        COVER_VIEW, camera_rays, cover_spheres, random_rays, random_spheres_10k,
+    };
+    let (lo, hi) = crate::workload::ray_box(true);
+    let workloads = [
+        (
+            "cover_camera_720p",
+            cover_spheres(),
+            camera_rays(COVER_VIEW, 1280, 720),
+        ),
+        (
+            "cover_incoherent",
+            cover_spheres(),
+            random_rays(1_000_000, lo, hi, 12),
+        ),
+        (
+            "random10k_incoherent",
+            random_spheres_10k(),
+            random_rays(1_000_000, Vec3::splat(-20.0), Vec3::splat(20.0), 13),
+        ),
+    ];
+    for (name, spheres, rays) in &workloads {
+        let mut buffers = SceneBuffers::new(spheres.len(), true);
+        let (set, tree) = buffers.trace(spheres)?;
+        let tree = tree.expect("buffers with BVH room");
+        let brute = &rays[..rays.len().min(if spheres.len() > 1000 {
+            20_000
+        } else {
+            rays.len()
+        })];
+        let packets: Vec<RayPacket8> = rays.chunks(8).map(RayPacket8::from_rays).collect();
+        let (set, tree, packets) = (&set, &tree, &packets);
+        let n = rays.len() as f64;
+        let closest = |r: Option<Hit>| r.map_or(0, |h| h.sphere as u64);
+        s.compare(
+            "bvh",
+            &format!("bvh closest/{name}"),
+            "rays",
+            vec![
+                contender("brute 1x8", brute.len() as f64, || {
+                    brute.iter().map(|r| closest(closest_hit_1x8(r, set))).sum()
+                }),
+                // One traversal stack per call, as the renderer keeps one
+                // per tile.
+                contender("bvh", n, || {
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .map(|r| closest(tree.closest_hit_with(r, &mut stack)))
+                        .sum()
+                }),
+                contender("bvh packet", n, || {
+                    let mut stack = BvhStack::new();
+                    packets.iter().fold(0u64, |a, p| {
+                        let mut h = HitPacket8::NONE;
+                        tree.closest_hit_x8_with(p, &mut h, 0, &mut stack);
+                        a.wrapping_add(h.spheres()[0] as u64)
+                    })
+                }),
+                contender("bvh packet, fallback 2", n, || {
+                    let mut stack = BvhStack::new();
+                    packets.iter().fold(0u64, |a, p| {
+                        let mut h = HitPacket8::NONE;
+                        tree.closest_hit_x8_with(p, &mut h, 2, &mut stack);
+                        a.wrapping_add(h.spheres()[0] as u64)
+                    })
+                }),
+            ],
+            true,
+        )?;
+        s.compare(
+            "bvh",
+            &format!("bvh any/{name}"),
+            "rays",
+            vec![
+                contender("brute 1x8", brute.len() as f64, || {
+                    brute.iter().filter(|r| any_hit_1x8(r, set)).count() as u64
+                }),
+                contender("bvh", n, || {
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .filter(|r| tree.any_hit_with(r, &mut stack))
+                        .count() as u64
+                }),
+            ],
+            true,
+        )?;
+    }
+    // Build time of 10⁶ spheres (the random layout, scaled up).
+    let mut rng = Pcg32::new(1_000_000, STREAM);
+    let million: Vec<Sphere> = (0..1_000_000)
+        .map(|_| {
+            let mut f = || next_f32(&mut rng);
+            Sphere::new(
+                Vec3::new(f(), f(), f()) * 200.0 - Vec3::splat(100.0),
+                0.05 + 0.3 * f(),
+            )
+        })
+        .collect();
+    let size = bvh_storage_for(million.len());
+    let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+    let mut lanes = vec![0.0f32; size.lanes];
+    let mut ids = vec![0u32; size.ids];
+    s.compare(
+        "bvh",
+        "bvh build/1M spheres",
+        "spheres",
+        vec![contender("build", million.len() as f64, || {
+            Bvh::build(&million, &mut nodes, &mut lanes, &mut ids)
+                .map_or(0, |b| b.node_count() as u64)
+        })],
+        false,
+    )?;
+    Ok(())
+}
+
+fn rendering(s: &mut Suite<'_>) -> Result<()> {
+    for (name, spp, depth) in [("week09", 32u32, 5u32), ("cover", 8, 50)] {
+        let scene = built_in(name).ok_or_else(|| anyhow::anyhow!("no built-in scene `{name}`"))?;
+        let job = |threads| Job {
+            max_depth: depth,
+            threads,
+            ..Job::new(&scene, 320, 180, spp)
+        };
+        let probe = run(&job(1), &|_| {})?;
+        let paths = probe.stats.paths as f64;
+        let rays_per_path = (probe.stats.rays + probe.stats.shadow_rays) as f64 / paths;
+        let first = s.figures.len();
+        // Timed by the render itself: the tracing, without building the
+        // scene's core structures and the thread pool.
+        let render = |threads: usize| -> Contender<'_> {
+            let j = job(threads);
+            let name = if threads == 1 {
+                "1 thread"
+            } else {
+                "2 threads"
+            };
+            Contender {
+                name: name.into(),
+                units: paths,
+                work: Box::new(move || Ok(Done::Seconds(run(&j, &|_| {})?.wall.as_secs_f64()))),
+            }
+        };
+        let cores = s.compare(
+            "rendering",
+            &format!("render/{name}"),
+            "camera paths",
+            vec![render(1), render(2)],
+            true,
+        )?;
+        if let Some(c) = cores[1] {
+            s.effective_cores
+                .push((format!("render/{name} 2 threads"), c));
+        }
+        for f in &mut s.figures[first..] {
+            f.extra
+                .push(("M rays/s".into(), f.mega_per_s.median * rays_per_path));
+        }
+    }
+    // The cover at the book's settings on 2 threads, BVH (auto) vs brute
+    // force: the throughput figure.
+    let scene = built_in("cover").ok_or_else(|| anyhow::anyhow!("no built-in scene `cover`"))?;
+    let job = |bvh| Job {
+        max_depth: 50,
+        bvh,
+        ..Job::new(&scene, 400, 225, 32)
+    };
+    let render = |name: &str, bvh| -> Contender<'_> {
+        let j = job(bvh);
+        Contender {
+            name: name.into(),
+            units: 400.0 * 225.0 * 32.0,
+            work: Box::new(move || Ok(Done::Seconds(run(&j, &|_| {})?.wall.as_secs_f64()))),
+        }
+    };
+    s.compare(
+        "rendering",
+        "render/cover_400x225_32spp",
+        "camera paths",
+        vec![
+            render("2 threads, brute force", crate::scenes::BvhMode::Off),
+            render("2 threads", crate::scenes::BvhMode::Auto),
+        ],
+        true,
+    )?;
+    Ok(())
+}
+
+/// Runs the whole suite, reporting each comparison's name as it starts.
+pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
+    let mut s = Suite {
+        options,
+        figures: vec![],
+        ratios: vec![],
+        effective_cores: vec![],
+        progress,
+    };
+    sampling(&mut s)?;
+    intersection(&mut s)?;
+    bvh(&mut s)?;
+    rendering(&mut s)?;
+    let goals = goals(&s.ratios, &s.effective_cores);
+    Ok(Report {
+        version: env!("CARGO_PKG_VERSION").into(),
+        simd: strata::trace::simd_level().name().into(),
+        cpu: cpu_model(),
+        cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        repetitions: options.repetitions,
+        figures: s.figures,
+        ratios: s.ratios,
+        effective_cores: s.effective_cores,
+        goals,
+    })
+}
+
+/// The number of comparisons the suite runs (for a progress bar).
+pub const COMPARISONS: u64 = 6 + 8 + 6 + 1 + 3;
