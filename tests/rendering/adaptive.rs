@@ -1,15 +1,12 @@
-//! Adaptive sampling: the same bits for any thread count, tile size and
-//! pixel split; smooth pixels stop at the base count and noisy ones take
-//! more; and a pixel's mean agrees with uniform sampling within noise.
-
-use std::path::PathBuf;
+//! Adaptive sampling: smooth pixels stop at the base count and noisy ones
+//! take more, and a pixel's mean agrees with uniform sampling within noise.
+//! (Its exactness for any split is in `determinism`.)
 
 use strata::render::{Adaptive, PixelFilter, PixelSum, Tile};
-use strata_runner::film_file::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 
-fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'_> {
+pub(crate) fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'_> {
     Job {
         max_depth: 5,
         seed,
@@ -19,92 +16,15 @@ fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'
     }
 }
 
-fn adaptive(mut j: Job<'_>, base: u32, max: u32, threshold: f32) -> Job<'_> {
+pub(crate) fn adaptive(mut j: Job<'_>, base: u32, max: u32, threshold: f32) -> Job<'_> {
     j.adaptive = Some(Adaptive::new(base, max, threshold).unwrap());
     j.spp = max;
     j.samples = 0..max;
     j
 }
 
-fn taken(p: &PixelSum) -> u32 {
+pub(crate) fn taken(p: &PixelSum) -> u32 {
     p.taken()
-}
-
-#[test]
-fn adaptive_renders_are_the_same_for_any_threads_tiles_and_crops() {
-    for (name, sampler, filter) in [
-        ("week09", SamplerKind::Independent, PixelFilter::BOX),
-        ("cover", SamplerKind::Sobol, PixelFilter::BOX),
-        (
-            "showcase",
-            SamplerKind::Stratified,
-            PixelFilter::new(strata::filter::FilterKind::Gaussian { sigma: 0.5 }, 1.5).unwrap(),
-        ),
-    ] {
-        let scene = built_in(name).unwrap();
-        let (w, h) = (29, 17);
-        let mut base = adaptive(job(&scene, w, h, 4, 3), 4, 64, 0.05);
-        base.sampler = sampler;
-        base.filter = filter;
-        let one = run(&base, &|_| {}).unwrap().pixels;
-        // Work was adapted: not every pixel stopped at the base or the top.
-        assert!(one.iter().any(|p| taken(p) == 4), "{name}");
-        assert!(one.iter().any(|p| taken(p) > 4), "{name}");
-        for (threads, tile) in [(2, 8), (2, 3), (1, 32)] {
-            let j = Job {
-                threads,
-                tile,
-                ..base.clone()
-            };
-            assert!(
-                run(&j, &|_| {}).unwrap().pixels == one,
-                "{name}: {threads} threads, tile {tile}"
-            );
-        }
-        // Three crops that partition the frame, merged.
-        let windows = [
-            Tile {
-                x0: 0,
-                y0: 0,
-                width: 11,
-                height: h,
-            },
-            Tile {
-                x0: 11,
-                y0: 0,
-                width: w - 11,
-                height: 6,
-            },
-            Tile {
-                x0: 11,
-                y0: 6,
-                width: w - 11,
-                height: h - 6,
-            },
-        ];
-        let parts: Vec<Film> = windows
-            .iter()
-            .map(|&window| {
-                let j = Job {
-                    window,
-                    threads: 2,
-                    ..base.clone()
-                };
-                let film = Film {
-                    key: RenderKey::of(&j),
-                    window,
-                    samples: j.samples.clone(),
-                    pixels: run(&j, &|_| {}).unwrap().pixels,
-                };
-                // Through the file format, whose checks accept adaptive
-                // counts.
-                Film::from_bytes(&film.to_bytes()).unwrap()
-            })
-            .collect();
-        let names: Vec<PathBuf> = (0..3).map(|i| PathBuf::from(format!("p{i}"))).collect();
-        let merged = merge(&parts, &names).unwrap();
-        assert!(merged.pixels == one, "{name}: merged crops");
-    }
 }
 
 #[test]

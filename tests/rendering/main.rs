@@ -4,12 +4,12 @@
 //!
 //! | module | guards |
 //! |---|---|
-//! | `render` | tiles and sample splits are exact; albedos, MIS, the course's defects fixed |
-//! | `split_merge` | random pixel and sample partitions merge to the one-shot film |
-//! | `adaptive` | adaptive renders are exact for any split; they stop where they should |
+//! | `determinism` | the contract on whole renders: tiles, threads, sample runs, random partitions, adaptive crops, all bit for bit |
+//! | `render` | albedos, MIS, lights, the course's defects fixed |
+//! | `adaptive` | adaptive renders stop where they should and agree with uniform sampling |
 //! | `prefilter` | the prefiltered checker and its ray-differential footprint |
 
 mod adaptive;
+mod determinism;
 mod prefilter;
 mod render;
-mod split_merge;
