@@ -2,7 +2,7 @@
 //! so parts of different scenes never merge. Locked by the golden table's
 //! `scene` rows.
 
-use strata::render::{Background, Material, Texture};
+use strata::render::Background;
 
 use super::SceneData;
 use crate::hash::Fnv;
@@ -25,7 +25,9 @@ impl SceneData {
         }
         h.u64(self.materials.len() as u64);
         for m in &self.materials {
-            hash_material(&mut h, m);
+            // A tag per kind, then each parameter's bits; image texels
+            // come below, with the image list.
+            m.content_bytes(|b| h.bytes(b));
         }
         for &(m, i) in &self.image_albedo {
             h.u64(m as u64);
@@ -53,83 +55,5 @@ impl SceneData {
             }
         }
         h.finish()
-    }
-}
-
-fn hash_texture(h: &mut Fnv, t: &Texture<'_>) {
-    match t {
-        Texture::Solid(c) => {
-            h.u32(1);
-            h.v3(*c);
-        }
-        Texture::Checker { scale, even, odd } => {
-            h.u32(2);
-            h.f(*scale);
-            h.v3(*even);
-            h.v3(*odd);
-        }
-        // Images are hashed with the scene's image list.
-        Texture::Image(_) => h.u32(3),
-    }
-}
-
-fn hash_material(h: &mut Fnv, m: &Material<'_>) {
-    let lobe = |h: &mut Fnv, tag: u32, albedo: &Texture<'_>, params: &[f32]| {
-        h.u32(tag);
-        hash_texture(h, albedo);
-        for &p in params {
-            h.f(p);
-        }
-    };
-    match m {
-        Material::Lambertian { albedo } => lobe(h, 1, albedo, &[]),
-        Material::Mirror { albedo } => {
-            h.u32(2);
-            h.v3(*albedo);
-        }
-        Material::Metal { albedo, roughness } => {
-            h.u32(3);
-            h.v3(*albedo);
-            h.f(*roughness);
-        }
-        Material::Dielectric { ior } => {
-            h.u32(4);
-            h.f(*ior);
-        }
-        Material::Phong {
-            albedo,
-            kd,
-            ks,
-            exponent,
-        } => lobe(h, 5, albedo, &[*kd, *ks, *exponent]),
-        Material::Blinn {
-            albedo,
-            kd,
-            ks,
-            exponent,
-        } => lobe(h, 6, albedo, &[*kd, *ks, *exponent]),
-        Material::PhongNormalized {
-            albedo,
-            kd,
-            ks,
-            exponent,
-        } => lobe(h, 7, albedo, &[*kd, *ks, *exponent]),
-        Material::BlinnNormalized {
-            albedo,
-            kd,
-            ks,
-            exponent,
-        } => lobe(h, 8, albedo, &[*kd, *ks, *exponent]),
-        Material::CookTorrance {
-            albedo,
-            kd,
-            ks,
-            alpha,
-            ior,
-        } => lobe(h, 9, albedo, &[*kd, *ks, *alpha, *ior]),
-        Material::DiffuseLight { emit } => {
-            h.u32(10);
-            h.v3(*emit);
-        }
     }
 }

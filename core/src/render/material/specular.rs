@@ -1,0 +1,212 @@
+//! Mirror, metal and glass: each scatters into one direction (metal: a
+//! fuzzed one) built on the mirror reflection, weighted by its colour with
+//! no cosine and no BRDF, so they are never evaluated and take no direct
+//! lighting.
+
+use glam::{Vec2, Vec3};
+
+use super::{BsdfSample, Feed, Lobe, MaterialError, SurfaceHit, check, colour_ok, r0_of, schlick};
+use crate::mapping::sample_uniform_sphere;
+
+/// The mirror of `d` about `n`.
+#[inline]
+fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// A reflected direction carrying `weight`.
+fn reflected(wi: Vec3, weight: Vec3) -> BsdfSample {
+    BsdfSample {
+        wi,
+        weight,
+        lobe: Lobe::Specular,
+        transmitted: false,
+    }
+}
+
+/// The delta (and fuzzed-delta) lobes.
+#[derive(Clone, Copy)]
+pub(super) enum Specular {
+    Mirror { albedo: Vec3 },
+    Metal { albedo: Vec3, roughness: f32 },
+    Dielectric { ior: f32 },
+}
+
+impl Specular {
+    pub(super) fn validate(&self) -> Result<(), MaterialError> {
+        use MaterialError::{Colour, Parameter};
+        match *self {
+            Specular::Mirror { albedo } => check(colour_ok(albedo, 1.0), Colour),
+            Specular::Metal { albedo, roughness } => {
+                check(colour_ok(albedo, 1.0), Colour)?;
+                check((0.0..=1.0).contains(&roughness), Parameter)
+            }
+            Specular::Dielectric { ior } => check(ior > 0.0 && ior.is_finite(), Parameter),
+        }
+    }
+
+    /// Metal adds `roughness` times a uniform unit vector to the mirror
+    /// direction and is absorbed when that points below the surface.
+    pub(super) fn sample(
+        &self,
+        d: Vec3,
+        hit: &SurfaceHit,
+        u: Vec2,
+        u_lobe: f32,
+    ) -> Option<BsdfSample> {
+        let n = hit.n;
+        match *self {
+            Specular::Mirror { albedo } => Some(reflected(reflect(d, n), albedo)),
+            Specular::Metal { albedo, roughness } => {
+                let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
+                let wi = fuzzed.normalize_or_zero();
+                (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
+            }
+            Specular::Dielectric { ior } => Some(refract_or_reflect(d, hit, ior, u_lobe)),
+        }
+    }
+
+    pub(super) fn content(&self, out: &mut Feed<'_>) {
+        match *self {
+            Specular::Mirror { albedo } => out.v3(albedo),
+            Specular::Metal { albedo, roughness } => {
+                out.v3(albedo);
+                out.f32(roughness);
+            }
+            Specular::Dielectric { ior } => out.f32(ior),
+        }
+    }
+}
+
+/// Glass: reflects when `u_lobe` falls under Schlick's reflectance (always
+/// under total internal reflection), else refracts by Snell's law.
+fn refract_or_reflect(d: Vec3, hit: &SurfaceHit, ior: f32, u_lobe: f32) -> BsdfSample {
+    let n = hit.n;
+    let eta = if hit.front_face { 1.0 / ior } else { ior };
+    let cos_i = (-d.dot(n)).min(1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    let cos_t = libm::sqrtf((1.0 - sin2_t).max(0.0));
+    // Schlick's approximation takes the cosine on the side of the
+    // thinner medium: the incident one entering, the
+    // transmitted one leaving (else it is far too low inside).
+    let cos_outside = if eta <= 1.0 { cos_i } else { cos_t };
+    let reflects = sin2_t > 1.0 || u_lobe < schlick(cos_outside, r0_of(eta));
+    let wi = if reflects {
+        reflect(d, n)
+    } else {
+        (d * eta + n * (eta * cos_i - cos_t)).normalize()
+    };
+    BsdfSample {
+        wi,
+        weight: Vec3::ONE,
+        lobe: Lobe::Specular,
+        transmitted: !reflects,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use crate::render::material::{HIT, Material, MaterialError, SurfaceHit};
+
+    #[test]
+    fn metal_directions_are_unit() {
+        let m = Material::Metal {
+            albedo: Vec3::ONE,
+            roughness: 1.0,
+        };
+        let d = Vec3::new(0.6, -0.8, 0.0);
+        for k in 0..100 {
+            let u = Vec2::new(k as f32 / 100.0, (k * 37 % 100) as f32 / 100.0);
+            if let Some(s) = m.sample(d, &HIT, u, 0.0) {
+                assert!((s.wi.length() - 1.0).abs() < 1e-6 && s.wi.y > 0.0);
+            }
+        }
+    }
+
+    /// Glass reflects with Schlick's probability on the air-side cosine,
+    /// entering and leaving alike.
+    #[test]
+    fn glass_reflects_with_schlick_probability() {
+        let g = Material::Dielectric { ior: 1.5 };
+        let r0 = (0.5f32 / 2.5).powi(2);
+        let schlick = |c: f32| r0 + (1.0 - r0) * (1.0 - c).powi(5);
+        // Entering at 60°: the air-side cosine is the incident one.
+        let d = Vec3::new(0.866_025_4, -0.5, 0.0);
+        let want = schlick(0.5);
+        let frac = |d: Vec3, hit: &SurfaceHit| {
+            let n = 10_000;
+            (0..n)
+                .filter(|&k| {
+                    !g.sample(d, hit, Vec2::ZERO, (k as f32 + 0.5) / n as f32)
+                        .unwrap()
+                        .transmitted
+                })
+                .count() as f32
+                / n as f32
+        };
+        assert!(
+            (frac(d, &HIT) - want).abs() < 2e-4,
+            "{} vs {want}",
+            frac(d, &HIT)
+        );
+        // Leaving at 30° inside: the ray refracts to 48.6° in air.
+        let inside = SurfaceHit {
+            front_face: false,
+            ..HIT
+        };
+        let d = Vec3::new(0.5, -0.866_025_4, 0.0);
+        let cos_t = (1.0f32 - (1.5f32 * 0.5).powi(2)).sqrt();
+        let want = schlick(cos_t);
+        assert!(
+            (frac(d, &inside) - want).abs() < 2e-4,
+            "{} vs {want}",
+            frac(d, &inside)
+        );
+    }
+
+    #[test]
+    fn mirror_reflects() {
+        let m = Material::Mirror {
+            albedo: Vec3::splat(0.9),
+        };
+        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
+        let s = m.sample(d, &HIT, Vec2::ZERO, 0.0).unwrap();
+        assert!((s.wi - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        assert_eq!(s.weight, Vec3::splat(0.9));
+        assert_eq!(m.eval(d, &HIT, s.wi), (Vec3::ZERO, 0.0));
+    }
+
+    #[test]
+    fn glass_refracts_by_snell_and_reflects_totally() {
+        let g = Material::Dielectric { ior: 1.5 };
+        let d = Vec3::new(0.6, -0.8, 0.0);
+        // u_lobe near 1: refract (Schlick's reflectance is small here).
+        let s = g.sample(d, &HIT, Vec2::ZERO, 0.99).unwrap();
+        assert!(s.transmitted && s.wi.y < 0.0);
+        let sin_t = s.wi.x;
+        assert!((sin_t - 0.6 / 1.5).abs() < 1e-6, "{sin_t}");
+        // From inside at a grazing angle: total internal reflection.
+        let inside = SurfaceHit {
+            front_face: false,
+            ..HIT
+        };
+        let s = g
+            .sample(Vec3::new(0.9, -0.435_889_9, 0.0), &inside, Vec2::ZERO, 0.99)
+            .unwrap();
+        assert!(!s.transmitted && s.wi.y > 0.0);
+    }
+
+    #[test]
+    fn metal_roughness_range() {
+        assert_eq!(
+            Material::Metal {
+                albedo: Vec3::ONE,
+                roughness: 1.5
+            }
+            .validate(),
+            Err(MaterialError::Parameter)
+        );
+    }
+}
