@@ -5,7 +5,7 @@
 pub mod bench;
 pub mod cli;
 pub mod commands;
-pub mod film_file;
+pub mod film;
 pub mod golden;
 pub mod hash;
 pub mod image_io;

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use proptest::prelude::*;
 use strata::render::{PixelSum, Tile};
-use strata_runner::film_file::{Film, RenderKey, merge};
+use strata_runner::film::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use crate::film_file::Film;
+use crate::film::Film;
 use crate::image_io::{Transfer, check_output, check_writable_dir, write_atomic};
 
 /// Whether two paths name the same file, by their absolute forms (the
