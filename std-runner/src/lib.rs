@@ -10,6 +10,7 @@ pub mod golden;
 pub mod hash;
 pub mod image_io;
 pub mod limits;
+pub mod plot;
 pub mod render;
 pub mod scene_file;
 pub mod scenes;
