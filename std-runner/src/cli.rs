@@ -405,7 +405,7 @@ fn crop_window(s: &str) -> Result<[f32; 4], String> {
 
 /// Parses `A..B` sample indices, `A < B`.
 fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
-    crate::film_file::parse_samples(s)
+    crate::film::parse_samples(s)
         .ok_or_else(|| format!("`{s}` is not a sample range A..B with A < B"))
 }
 

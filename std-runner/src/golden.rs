@@ -26,7 +26,7 @@
 use anyhow::{Result, anyhow};
 use strata::render::PixelSum;
 
-use crate::film_file::{Film, RenderKey};
+use crate::film::{Film, RenderKey};
 use crate::hash::Fnv;
 use crate::image_io::Transfer;
 use crate::render::{Job, SamplerKind, run};

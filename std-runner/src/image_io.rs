@@ -54,6 +54,15 @@ pub fn to_u8(v: f32, transfer: Transfer) -> u8 {
     }
 }
 
+/// Linear RGB pixels as 8-bit RGB under `transfer`.
+#[must_use]
+pub fn rgb8(pixels: &[Vec3], transfer: Transfer) -> Vec<u8> {
+    pixels
+        .iter()
+        .flat_map(|p| [p.x, p.y, p.z].map(|v| to_u8(v, transfer)))
+        .collect()
+}
+
 /// Whether `path` names an output this program can write, checked before
 /// any rendering: a `.png` or `.exr` name whose directory exists and
 /// accepts a new file. Leaves nothing behind.
@@ -141,11 +150,7 @@ pub fn image_bytes(
     assert_eq!(pixels.len(), (width * height) as usize);
     match format {
         ImageFormat::Png => {
-            let rgb8: Vec<u8> = pixels
-                .iter()
-                .flat_map(|p| [p.x, p.y, p.z].map(|v| to_u8(v, transfer)))
-                .collect();
-            png_rgb8_bytes(width, height, &rgb8, transfer, metadata)
+            png_rgb8_bytes(width, height, &rgb8(pixels, transfer), transfer, metadata)
         }
         ImageFormat::Exr => exr_bytes(width, height, pixels, metadata),
     }

@@ -5,11 +5,12 @@
 pub mod bench;
 pub mod cli;
 pub mod commands;
-pub mod film_file;
+pub mod film;
 pub mod golden;
 pub mod hash;
 pub mod image_io;
 pub mod limits;
+pub mod plot;
 pub mod render;
 pub mod scene_file;
 pub mod scenes;

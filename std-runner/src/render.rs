@@ -300,7 +300,7 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
                     &mut film,
                 ),
             }
-            .map_err(|e| anyhow!("tile {}: {e}", crate::film_file::window_text(tile)))?;
+            .map_err(|e| anyhow!("tile {}: {e}", crate::film::window_text(tile)))?;
             progress(tile.area() as u64);
             Ok((tile, film, stats))
         })

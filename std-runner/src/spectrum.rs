@@ -24,6 +24,7 @@ use rayon::prelude::*;
 use strata::Sampler;
 
 use crate::limits::MAX_RANGE;
+use crate::plot;
 use crate::render::{SamplerKind, WithSampler};
 
 /// The averaged periodogram of one sampler.
@@ -249,7 +250,6 @@ pub fn csv(spectra: &[Spectrum]) -> String {
 /// The radial averages as one plot, a line per sampler, into an 8-bit RGB
 /// buffer of `width × height`.
 pub fn plot_radial(spectra: &[Spectrum], title: &str, width: u32, height: u32) -> Result<Vec<u8>> {
-    crate::study::fonts()?;
     let radial: Vec<_> = spectra.iter().map(Spectrum::radial).collect();
     let x1 = spectra.iter().map(|s| s.r).max().unwrap_or(1) as f64;
     let y1 = radial
@@ -258,48 +258,26 @@ pub fn plot_radial(spectra: &[Spectrum], title: &str, width: u32, height: u32) -
         .map(|p| p.1)
         .fold(2.0f64, f64::max)
         .min(4.0);
-    let mut buf = vec![0u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("plotting: {e:?}");
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(56)
-            .build_cartesian_2d(0.0..x1, 0.0..y1 * 1.05)
-            .map_err(err)?;
+    plot::chart(width, height, |root| {
+        let mut chart =
+            plot::titled(root, title, 56).build_cartesian_2d(0.0..x1, 0.0..y1 * 1.05)?;
         chart
             .configure_mesh()
             .x_desc("frequency |ω| (cycles per pixel)")
             .y_desc("radial mean power")
             .label_style(("sans-serif", 15))
             .max_light_lines(0)
-            .draw()
-            .map_err(err)?;
+            .draw()?;
         for (s, line) in spectra.iter().zip(&radial) {
-            let c = crate::study::colour(s.sampler);
+            let c = plot::colour(s.sampler);
             let pts: Vec<(f64, f64)> = line.iter().map(|&(k, p)| (k as f64, p.min(y1))).collect();
             chart
-                .draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                .map_err(err)?
+                .draw_series(LineSeries::new(pts, c.stroke_width(2)))?
                 .label(s.sampler.name())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                });
+                .legend(plot::legend_line(c.stroke_width(2)));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(buf)
+        plot::legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    })
 }
 
 #[cfg(test)]

@@ -6,14 +6,14 @@
 use std::fmt::Write as _;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use glam::Vec3;
 use plotters::prelude::*;
-use strata::render::{PixelSum, Tile};
+use strata::render::Tile;
 
-use crate::image_io::{Transfer, to_u8, write_atomic, write_png_rgb8};
+use crate::image_io::write_atomic;
+use crate::plot;
 use crate::render::{Job, SamplerKind, run};
 use crate::scenes::SceneData;
 
@@ -274,37 +274,6 @@ pub fn series(points: &[Point], sampler: SamplerKind) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Registers the bundled font (Ubuntu Light, from `epaint_default_fonts`)
-/// as plotters' `sans-serif` once, so text draws the same on any machine
-/// and needs no system fonts.
-pub(crate) fn fonts() -> Result<()> {
-    static DONE: OnceLock<bool> = OnceLock::new();
-    let ok = *DONE.get_or_init(|| {
-        plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        )
-        .is_ok()
-    });
-    if ok {
-        Ok(())
-    } else {
-        bail!("the bundled font did not load")
-    }
-}
-
-/// Line colours, one per sampler, in [`SamplerKind`] order.
-pub(crate) fn colour(sampler: SamplerKind) -> RGBColor {
-    match sampler {
-        SamplerKind::Independent => RGBColor(0xd6, 0x27, 0x28),
-        SamplerKind::Grid => RGBColor(0x7f, 0x7f, 0x7f),
-        SamplerKind::Stratified => RGBColor(0x1f, 0x77, 0xb4),
-        SamplerKind::Sobol => RGBColor(0x2c, 0xa0, 0x2c),
-        SamplerKind::Halton => RGBColor(0x94, 0x67, 0xbd),
-    }
-}
-
 /// Draws the log–log convergence plot of `points` (one line per sampler,
 /// labelled with its fitted slope, and a dashed `spp^-1/2` guide) into an
 /// 8-bit RGB buffer of `width × height`.
@@ -315,7 +284,6 @@ pub fn plot_convergence(
     width: u32,
     height: u32,
 ) -> Result<Vec<u8>> {
-    fonts()?;
     let xs = points.iter().map(|p| p.spp as f64);
     let ys = points.iter().map(|p| p.rmse).filter(|&y| y > 0.0);
     let (x0, x1) = xs.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
@@ -323,21 +291,11 @@ pub fn plot_convergence(
     if !(x0 <= x1 && y0 <= y1) {
         bail!("nothing to plot: no point has a positive RMSE");
     }
-    let mut buf = vec![0u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("plotting: {e:?}");
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
-            .build_cartesian_2d(
-                (x0 / 1.5..x1 * 1.5).log_scale(),
-                (y0 / 1.5..y1 * 1.5).log_scale(),
-            )
-            .map_err(err)?;
+    plot::chart(width, height, |root| {
+        let mut chart = plot::titled(root, title, 70).build_cartesian_2d(
+            (x0 / 1.5..x1 * 1.5).log_scale(),
+            (y0 / 1.5..y1 * 1.5).log_scale(),
+        )?;
         chart
             .configure_mesh()
             .x_desc("samples per pixel")
@@ -348,139 +306,33 @@ pub fn plot_convergence(
             .max_light_lines(0)
             .x_label_formatter(&|x| format!("{x:.0}"))
             .y_label_formatter(&|y| format!("{y:.0e}"))
-            .draw()
-            .map_err(err)?;
+            .draw()?;
         for &s in samplers {
             let line = series(points, s);
             let Some(&(gx, gy)) = line.first() else {
                 continue;
             };
-            let c = colour(s);
+            let c = plot::colour(s);
             let label = match log_log_slope(&line) {
                 Some(k) => format!("{} (slope {k:.2})", s.name()),
                 None => s.name().to_string(),
             };
             chart
-                .draw_series(LineSeries::new(line.clone(), c.stroke_width(2)))
-                .map_err(err)?
+                .draw_series(LineSeries::new(line.clone(), c.stroke_width(2)))?
                 .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                });
-            chart
-                .draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))
-                .map_err(err)?;
+                .legend(plot::legend_line(c.stroke_width(2)));
+            chart.draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
             if s == SamplerKind::Independent {
                 // The Monte Carlo rate through the first independent point.
                 let guide = [(gx, gy), (x1, gy * (x1 / gx).powf(-0.5))];
                 chart
-                    .draw_series(DashedLineSeries::new(guide, 6, 4, BLACK.stroke_width(1)))
-                    .map_err(err)?
+                    .draw_series(DashedLineSeries::new(guide, 6, 4, BLACK.stroke_width(1)))?
                     .label("spp^-1/2")
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+                    .legend(plot::legend_line(BLACK));
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .label_font(("sans-serif", 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(buf)
-}
-
-/// Puts `panels` (each `width × height` linear RGB, sRGB-encoded here)
-/// side by side with `gap` pixels between them and a caption band under
-/// each holding its label; returns the 8-bit RGB buffer and its size.
-pub fn side_by_side(
-    panels: &[(&str, &[Vec3])],
-    width: u32,
-    height: u32,
-) -> Result<(Vec<u8>, u32, u32)> {
-    fonts()?;
-    const GAP: u32 = 6;
-    const BAND: u32 = 30;
-    let n = panels.len() as u32;
-    let w = n
-        .checked_mul(width + GAP)
-        .and_then(|x| x.checked_add(GAP))
-        .filter(|&w| w <= 1 << 16)
-        .ok_or_else(|| anyhow::anyhow!("{n} panels of width {width} make too wide an image"))?;
-    let h = height + GAP + BAND;
-    let (wu, gap) = (w as usize, GAP as usize);
-    let mut buf = vec![255u8; wu * h as usize * 3];
-    for (i, (_, pixels)) in panels.iter().enumerate() {
-        let (pw, ph) = (width as usize, height as usize);
-        assert_eq!(pixels.len(), pw * ph);
-        let x0 = gap + i * (pw + gap);
-        for y in 0..ph {
-            for x in 0..pw {
-                let p = pixels[y * pw + x];
-                let at = ((y + gap) * wu + x0 + x) * 3;
-                buf[at..at + 3].copy_from_slice(&[
-                    to_u8(p.x, Transfer::Srgb),
-                    to_u8(p.y, Transfer::Srgb),
-                    to_u8(p.z, Transfer::Srgb),
-                ]);
-            }
-        }
-    }
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| anyhow::anyhow!("drawing labels: {e:?}");
-        let style = TextStyle::from(("sans-serif", 18)).color(&BLACK).pos(
-            plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Center,
-            ),
-        );
-        for (i, (label, _)) in panels.iter().enumerate() {
-            let cx = GAP + i as u32 * (width + GAP) + width / 2;
-            let cy = GAP + height + BAND / 2;
-            root.draw_text(label, &style, (cx as i32, cy as i32))
-                .map_err(err)?;
-        }
-        root.present().map_err(err)?;
-    }
-    Ok((buf, w, h))
-}
-
-/// The heat map of the samples each pixel took ([`PixelSum::taken`]), as
-/// 8-bit RGB: viridis on a log scale, from `base` samples (dark blue) to
-/// `max` (yellow). Counts outside are clamped; with `max == base` every
-/// pixel is dark.
-#[must_use]
-pub fn spp_heat_map(pixels: &[PixelSum], base: u32, max: u32) -> Vec<u8> {
-    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
-    let lo = (base.max(1) as f64).ln();
-    let span = (max.max(base).max(1) as f64).ln() - lo;
-    pixels
-        .iter()
-        .flat_map(|p| {
-            let taken = p.taken().max(1) as f64;
-            let t = if span > 0.0 {
-                ((taken.ln() - lo) / span).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let c: RGBColor = ViridisRGB.get_color_normalized(t, 0.0, 1.0);
-            [c.0, c.1, c.2]
-        })
-        .collect()
-}
-
-/// Writes an 8-bit RGB buffer as an sRGB PNG, atomically.
-pub fn write_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<()> {
-    let meta = [(
-        "Software".to_string(),
-        format!("strata {}", env!("CARGO_PKG_VERSION")),
-    )];
-    write_png_rgb8(path, width, height, bytes, Transfer::Srgb, &meta)
-        .with_context(|| format!("writing `{}`", path.display()))
+        plot::legend(&mut chart, SeriesLabelPosition::LowerLeft)
+    })
 }
 
 #[cfg(test)]
@@ -521,28 +373,5 @@ mod tests {
         let bytes = std::fs::read(&path).unwrap();
         std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
         assert_eq!(read_reference(&path, "key a", 2), None);
-    }
-
-    #[test]
-    fn side_by_side_places_panels_and_labels() {
-        let red = vec![Vec3::X; 20 * 10];
-        let blue = vec![Vec3::Z; 20 * 10];
-        let (buf, w, h) = side_by_side(&[("red", &red), ("blue", &blue)], 20, 10).unwrap();
-        assert_eq!((w, h), (2 * 20 + 3 * 6, 10 + 6 + 30));
-        let px = |x: u32, y: u32| {
-            let at = ((y * w + x) * 3) as usize;
-            [buf[at], buf[at + 1], buf[at + 2]]
-        };
-        assert_eq!(px(6, 6), [255, 0, 0]);
-        assert_eq!(px(6 + 20 + 6, 6), [0, 0, 255]);
-        assert_eq!(px(0, 0), [255, 255, 255]);
-        // Some dark label pixels in the band under each panel.
-        for x0 in [6, 32] {
-            let dark = (x0..x0 + 20)
-                .flat_map(|x| (16..h).map(move |y| (x, y)))
-                .filter(|&(x, y)| px(x, y)[0] < 128)
-                .count();
-            assert!(dark > 5, "no label under the panel at {x0}");
-        }
     }
 }

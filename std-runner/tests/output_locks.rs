@@ -65,7 +65,7 @@ fn golden_table_reproduces() {
 }
 
 /// The pins: (output identity, rows, digest of the table's first `rows`
-/// rows), oldest first. The identity is `film_file::version()`, the crate
+/// rows), oldest first. The identity is `film::version()`, the crate
 /// version and `+rN` of `OUTPUT_REVISION` that film files carry: merges
 /// refuse parts of another identity. Appending rows adds a pin of the same
 /// identity; changing a row needs a new identity (a new revision, or a
@@ -86,7 +86,7 @@ fn digest(rows: usize) -> u64 {
 /// may be added (at the end) without one.
 #[test]
 fn existing_rows_change_only_with_a_new_output_identity() {
-    let current = strata_runner::film_file::version();
+    let current = strata_runner::film::version();
     let &(last, rows, _) = PINS.last().unwrap();
     assert_eq!(
         last,

@@ -20,7 +20,7 @@ use glam::UVec2;
 use proptest::prelude::*;
 use strata::render::{Camera, PixelFilter, PixelSum, Scene, Tile, pixel_sample};
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
-use strata_runner::film_file::{Film, RenderKey, merge};
+use strata_runner::film::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 

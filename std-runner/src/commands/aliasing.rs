@@ -4,13 +4,13 @@
 use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
-use glam::Vec3;
 use strata::render::Tile;
 
 use crate::cli::{AliasingArgs, TextureFilterName};
 use crate::commands::{check_output_ext, height_for, resolve_scene};
-use crate::image_io::say;
+use crate::image_io::{Transfer, rgb8, say};
 use crate::limits::MAX_PIXELS;
+use crate::plot;
 use crate::render::SamplerKind;
 
 /// Runs `strata aliasing`.
@@ -76,16 +76,16 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
             reference,
         ));
     }
-    let refs: Vec<(&str, &[Vec3])> = panels
-        .iter()
-        .map(|(l, p)| (l.as_str(), p.as_slice()))
+    let encoded: Vec<(String, Vec<u8>)> = panels
+        .into_iter()
+        .map(|(l, p)| (l, rgb8(&p, Transfer::Srgb)))
         .collect();
-    let (bytes, w, h) = study::side_by_side(&refs, width, height)?;
-    study::write_png(&args.output, &bytes, w, h)?;
+    let (bytes, w, h) = plot::side_by_side(&encoded, width, height)?;
+    plot::write_png(&args.output, &bytes, w, h)?;
     say(&format!(
         "{}: {} panels of {}x{}, to {}",
         scene.name,
-        panels.len(),
+        encoded.len(),
         width,
         height,
         args.output.display()

@@ -11,6 +11,7 @@ use crate::cli::ConvergeArgs;
 use crate::commands::{check_output_ext, height_for, resolve_scene, window_of};
 use crate::image_io::{say, write_atomic};
 use crate::limits::MAX_PIXELS;
+use crate::plot;
 use crate::render::SamplerKind;
 
 /// Runs `strata converge`.
@@ -108,7 +109,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
     );
     let plot = study::plot_convergence(&points, &samplers, &title, 800, 560)?;
     let text = study::csv(&points);
-    study::write_png(&plot_path, &plot, 800, 560)?;
+    plot::write_png(&plot_path, &plot, 800, 560)?;
     // Both files or neither.
     if let Err(e) = write_atomic(&csv_path, |tmp| Ok(std::fs::write(tmp, &text)?)) {
         std::fs::remove_file(&plot_path).ok();

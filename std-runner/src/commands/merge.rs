@@ -8,7 +8,7 @@ use crate::commands::check_output_ext;
 use crate::commands::output::{
     check_output_or_film, same_path, write_film_or_image, write_spp_map,
 };
-use crate::film_file::Film;
+use crate::film::Film;
 use crate::image_io::say;
 
 /// Runs `strata merge`: every part is read and checked before the output
@@ -37,7 +37,7 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
             );
         }
     }
-    let film = crate::film_file::merge(&parts, &args.parts)?;
+    let film = crate::film::merge(&parts, &args.parts)?;
     write_film_or_image(&args.output, &film, args.gamma)?;
     if let Some(map) = &args.spp_map
         && let Err(e) = write_spp_map(map, &film)

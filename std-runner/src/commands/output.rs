@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use crate::film_file::Film;
+use crate::film::Film;
 use crate::image_io::{Transfer, check_output, check_writable_dir, write_atomic};
 
 /// Whether two paths name the same file, by their absolute forms (the
@@ -37,7 +37,7 @@ pub(crate) fn spp_summary(film: &Film) -> String {
 /// Writes the heat map of the samples each pixel of `film` took.
 pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
     let base = film.key.adaptive_base().unwrap_or(film.key.spp());
-    let bytes = crate::study::spp_heat_map(&film.pixels, base, film.key.spp());
+    let bytes = crate::plot::spp_heat_map(&film.pixels, base, film.key.spp());
     let mut meta = film.metadata("srgb");
     meta.push((
         "strata.spp_map".into(),

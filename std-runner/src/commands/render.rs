@@ -13,7 +13,7 @@ use crate::commands::output::{
     check_json, check_output_or_film, same_path, spp_summary, write_film_or_image, write_spp_map,
 };
 use crate::commands::{check_output_ext, resolve_scene, window_of};
-use crate::film_file::{Film, RenderKey, window_text};
+use crate::film::{Film, RenderKey, samples_text, window_text};
 use crate::image_io::{say, write_atomic};
 use crate::limits::{MAX_PIXELS, MAX_WIDTH};
 use crate::render::{Job, SamplerKind, run};
@@ -152,10 +152,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         String::new()
     } else {
         format!(
-            " (pixels {}, samples {}..{})",
+            " (pixels {}, samples {})",
             window_text(window),
-            samples.start,
-            samples.end
+            samples_text(&samples)
         )
     };
     let spp_text = match adaptive {
@@ -204,7 +203,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             "shadow_rays": st.shadow_rays,
             "dropped_samples": dropped,
             "bvh": scene.use_bvh(args.bvh),
-            "version": crate::film_file::version(),
+            "version": crate::film::version(),
         });
         let text = serde_json::to_string_pretty(&facts)? + "\n";
         write_atomic(path, |tmp| Ok(std::fs::write(tmp, &text)?))

@@ -4,12 +4,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use glam::Vec3;
 
 use crate::cli::SpectrumArgs;
 use crate::commands::check_output_ext;
 use crate::commands::output::same_path;
 use crate::image_io::{say, write_atomic};
+use crate::plot;
 use crate::render::SamplerKind;
 
 /// Runs `strata spectrum`.
@@ -52,36 +52,29 @@ pub fn spectrum(args: &SpectrumArgs) -> Result<()> {
             .map(|&s| sp::spectrum(s, args.spp, args.seed, args.pixels, r))
             .collect::<Result<_>>()
     })?;
-    // Each panel about 256 pixels wide.
+    // Each panel about 256 pixels wide; `image`'s grey levels are the
+    // file's, so the panels go in as they are.
     let cell = (256 / (2 * r as usize + 1)).max(1);
-    let panels: Vec<(String, Vec<Vec3>)> = spectra
+    let panels: Vec<(String, Vec<u8>)> = spectra
         .iter()
         .map(|s| {
-            let (bytes, _) = sp::image(s, cell);
-            // The panels are drawn with the sRGB curve; undo it so the
-            // grey levels are the ones `image` chose.
-            let lin = bytes
-                .chunks_exact(3)
-                .map(|c| Vec3::splat(crate::image_io::srgb_decode(c[0] as f32 / 255.0)))
-                .collect();
-            (format!("{}, {} spp", s.sampler.name(), s.spp), lin)
+            (
+                format!("{}, {} spp", s.sampler.name(), s.spp),
+                sp::image(s, cell).0,
+            )
         })
         .collect();
     let n = ((2 * r as usize + 1) * cell) as u32;
-    let refs: Vec<(&str, &[Vec3])> = panels
-        .iter()
-        .map(|(l, p)| (l.as_str(), p.as_slice()))
-        .collect();
-    let (bytes, w, h) = crate::study::side_by_side(&refs, n, n)?;
+    let (bytes, w, h) = plot::side_by_side(&panels, n, n)?;
     let title = format!(
         "radial power spectrum, {} spp, {} pixels",
         args.spp, args.pixels
     );
     let plot = sp::plot_radial(&spectra, &title, 800, 480)?;
     let text = sp::csv(&spectra);
-    crate::study::write_png(&args.output, &bytes, w, h)?;
+    plot::write_png(&args.output, &bytes, w, h)?;
     // All three files or none.
-    let rest = crate::study::write_png(&plot_path, &plot, 800, 480).and_then(|()| {
+    let rest = plot::write_png(&plot_path, &plot, 800, 480).and_then(|()| {
         write_atomic(&csv_path, |tmp| Ok(std::fs::write(tmp, &text)?))
             .with_context(|| format!("writing `{}`", csv_path.display()))
     });

@@ -35,7 +35,7 @@ pub fn verify(args: &VerifyArgs) -> Result<()> {
             "{failed} of {} golden rows differ: this build or machine does not reproduce \
              Strata {}'s output",
             outcomes.len(),
-            crate::film_file::version()
+            crate::film::version()
         );
     }
     say(&format!("all {} golden rows match", outcomes.len()));

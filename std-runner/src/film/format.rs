@@ -1,0 +1,224 @@
+//! A film's bytes: the header and body written by [`Film::to_bytes`] and
+//! read back, checked, by [`Film::from_bytes`].
+
+use std::fmt::Write as _;
+use std::ops::Range;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use strata::render::PixelSum;
+
+use super::Film;
+use super::key::{
+    KEY_FIELDS, RenderKey, parse_adaptive, parse_samples, parse_window, samples_text, window_text,
+};
+use crate::limits::{MAX_PIXELS, MAX_SPP, MAX_WIDTH};
+
+/// The first line of every film file.
+pub const MAGIC: &str = "strata-film 3";
+
+/// Bytes per pixel in a film's body.
+pub const BYTES_PER_PIXEL: usize = 40;
+
+impl Film {
+    /// The file bytes: header and body.
+    #[must_use]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
+        for p in &self.pixels {
+            for s in p.sum.into_iter().chain([p.weight]) {
+                body.extend_from_slice(&s.to_le_bytes());
+            }
+            body.extend_from_slice(&p.samples.to_le_bytes());
+            body.extend_from_slice(&p.dropped.to_le_bytes());
+        }
+        let mut head = String::new();
+        writeln!(head, "{MAGIC}").unwrap();
+        for (k, v) in self.key.fields() {
+            writeln!(head, "{k}={v}").unwrap();
+        }
+        writeln!(head, "window={}", window_text(self.window)).unwrap();
+        writeln!(head, "samples={}", samples_text(&self.samples)).unwrap();
+        writeln!(head, "checksum={:016x}", crate::hash::fnv1a(&body)).unwrap();
+        writeln!(head).unwrap();
+        let mut out = head.into_bytes();
+        out.extend_from_slice(&body);
+        out
+    }
+
+    /// Parses a film file's bytes; errors say what is wrong, not where
+    /// (the caller adds the file name).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Film> {
+        let not_film = || anyhow::anyhow!("not a Strata film (no `{MAGIC}` line)");
+        let first = bytes
+            .iter()
+            .position(|&b| b == b'\n')
+            .ok_or_else(not_film)?;
+        if &bytes[..first] != MAGIC.as_bytes() {
+            if bytes.starts_with(b"strata-film ") {
+                bail!(
+                    "a film of another format version (`{}`; this build reads `{MAGIC}`)",
+                    String::from_utf8_lossy(&bytes[..first])
+                );
+            }
+            return Err(not_film());
+        }
+        // The header's end is searched from the magic line's newline on, so
+        // an empty header is found as such, not before the magic line ends.
+        let end =
+            first + find(&bytes[first..], b"\n\n").context("truncated: the header does not end")?;
+        let head = std::str::from_utf8(&bytes[first + 1..end.max(first + 1)])
+            .context("header is not UTF-8")?;
+        let body = &bytes[end + 2..];
+        let mut map: Vec<(&str, &str)> = Vec::new();
+        for line in head.lines() {
+            let (k, v) = line
+                .split_once('=')
+                .with_context(|| format!("header line `{line}` is not key=value"))?;
+            if map.iter().any(|(seen, _)| *seen == k) {
+                bail!("header repeats `{k}`");
+            }
+            map.push((k, v));
+        }
+        let get = |name: &str| -> Result<&str> {
+            map.iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| *v)
+                .with_context(|| format!("header has no `{name}`"))
+        };
+        let fields: Vec<(&'static str, String)> = KEY_FIELDS
+            .iter()
+            .map(|&k| get(k).map(|v| (k, v.to_string())))
+            .collect::<Result<_>>()?;
+        let (width, height) = get("size")?
+            .split_once('x')
+            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+            .context("bad `size`")?;
+        let spp: u32 = get("spp")?.parse().context("bad `spp`")?;
+        let window = parse_window(get("window")?).context("bad `window`")?;
+        let samples = parse_samples(get("samples")?).context("bad `samples`")?;
+        if width == 0 || height == 0 || spp == 0 {
+            bail!("empty image or zero spp");
+        }
+        // The limits `strata render` accepts, so a hostile header cannot
+        // ask a merge for a huge allocation.
+        if width > MAX_WIDTH
+            || height > MAX_WIDTH
+            || width as u64 * height as u64 > MAX_PIXELS
+            || spp > MAX_SPP
+        {
+            bail!("size {width}x{height} or spp {spp} is beyond what strata renders");
+        }
+        if window.x0 + window.width > width || window.y0 + window.height > height {
+            bail!(
+                "window {} is outside the {width}x{height} image",
+                window_text(window)
+            );
+        }
+        if samples.end > spp {
+            bail!(
+                "samples {}..{} exceed spp {spp}",
+                samples.start,
+                samples.end
+            );
+        }
+        let adaptive = parse_adaptive(get("adaptive")?).context("bad `adaptive`")?;
+        if let Some(a) = adaptive
+            && (a.max() != spp || samples != (0..spp))
+        {
+            bail!(
+                "an adaptive film must cover samples 0..{spp} with max={spp}, not samples {}..{} \
+                 with max={}",
+                samples.start,
+                samples.end,
+                a.max()
+            );
+        }
+        let need = window.area() * BYTES_PER_PIXEL;
+        if body.len() != need {
+            bail!(
+                "truncated or padded: {} bytes of pixels where the window needs {need}",
+                body.len()
+            );
+        }
+        let sum = u64::from_str_radix(get("checksum")?, 16).context("bad `checksum`")?;
+        if sum != crate::hash::fnv1a(body) {
+            bail!("corrupt: the pixel checksum does not match");
+        }
+        let pixels = body
+            .chunks_exact(BYTES_PER_PIXEL)
+            .map(|r| {
+                let i = |k: usize| i64::from_le_bytes(r[8 * k..8 * k + 8].try_into().unwrap());
+                let u = |o: usize| u32::from_le_bytes(r[o..o + 4].try_into().unwrap());
+                PixelSum {
+                    sum: [i(0), i(1), i(2)],
+                    weight: i(3),
+                    samples: u(32),
+                    dropped: u(36),
+                }
+            })
+            .collect::<Vec<PixelSum>>();
+        let key = RenderKey {
+            fields,
+            width,
+            height,
+            spp,
+            adaptive_base: adaptive.map(|a| a.base()),
+        };
+        check_counts(&key, &samples, &pixels)?;
+        Ok(Film {
+            key,
+            window,
+            samples,
+            pixels,
+        })
+    }
+
+    /// Reads a film file; errors name it.
+    pub fn read(path: &Path) -> Result<Film> {
+        let bytes =
+            std::fs::read(path).with_context(|| format!("cannot read `{}`", path.display()))?;
+        Film::from_bytes(&bytes).with_context(|| format!("`{}`", path.display()))
+    }
+}
+
+/// Every pixel took every sample of the range, kept or dropped; an
+/// adaptive pixel (whose range is all of `0..spp`) took a whole number of
+/// base-sized batches, or the maximum. A merge checks the same of films
+/// built in code.
+pub(super) fn check_counts(
+    key: &RenderKey,
+    samples: &Range<u32>,
+    pixels: &[PixelSum],
+) -> Result<()> {
+    let n = samples.end - samples.start;
+    if key.adaptive_base.is_some() && *samples != (0..key.spp) {
+        bail!(
+            "an adaptive film must cover samples 0..{}, not {}..{}",
+            key.spp,
+            samples.start,
+            samples.end
+        );
+    }
+    let possible = |t: u32| match key.adaptive_base {
+        None => t == n,
+        Some(base) => t == n || (t >= base && t < n && t.is_multiple_of(base)),
+    };
+    if let Some(at) = pixels.iter().position(|p| !possible(p.taken())) {
+        let want = match key.adaptive_base {
+            None => n.to_string(),
+            Some(base) => format!("a multiple of {base} up to {n}"),
+        };
+        bail!(
+            "pixel {at} of the window holds {} samples where the range {}..{} has {want}",
+            pixels[at].taken(),
+            samples.start,
+            samples.end
+        );
+    }
+    Ok(())
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}

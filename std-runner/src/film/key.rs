@@ -1,0 +1,227 @@
+//! The text of a film header: the [`RenderKey`] fields that define a
+//! render's pixels, and the window and sample range a part covers. The
+//! same texts go into image metadata.
+
+use std::ops::Range;
+
+use strata::render::Tile;
+
+use crate::render::Job;
+
+/// What defines a render's pixels: two parts merge only if every field
+/// agrees. Values are kept as the strings written to files, so comparing
+/// and reporting a difference need no parsing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RenderKey {
+    // Visible to the film module, which builds keys from parsed headers.
+    pub(super) fields: Vec<(&'static str, String)>,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) spp: u32,
+    /// The base sample count of an adaptive render.
+    pub(super) adaptive_base: Option<u32>,
+}
+
+/// The field names of a [`RenderKey`], in file order.
+pub const KEY_FIELDS: [&str; 13] = [
+    "version",
+    "scene",
+    "scene_hash",
+    "camera",
+    "size",
+    "spp",
+    "sampler",
+    "seed",
+    "max_depth",
+    "direct_lighting",
+    "filter",
+    "adaptive",
+    "texture_filter",
+];
+
+impl RenderKey {
+    /// The key of `job`.
+    #[must_use]
+    pub fn of(job: &Job<'_>) -> Self {
+        let c = &job.scene.camera;
+        let values = [
+            version(),
+            job.scene.name.clone(),
+            format!("{:016x}", job.scene.content_hash()),
+            format!(
+                "from {:?} at {:?} up {:?} vfov {:?} defocus {:?} focus {:?}",
+                c.look_from.to_array(),
+                c.look_at.to_array(),
+                c.up.to_array(),
+                c.vfov_deg,
+                c.defocus_angle_deg,
+                c.focus_dist
+            ),
+            format!("{}x{}", job.width, job.height),
+            job.spp.to_string(),
+            job.sampler.name().to_string(),
+            job.seed.to_string(),
+            job.max_depth.to_string(),
+            job.direct_lighting.to_string(),
+            // The BVH is not in the key: it never changes a pixel.
+            filter_text(&job.filter),
+            adaptive_text(job.adaptive),
+            match job.texture_filter {
+                strata::render::TextureFilter::None => "none",
+                strata::render::TextureFilter::Box => "box",
+            }
+            .to_string(),
+        ];
+        RenderKey {
+            // A value is one header line: control characters (a scene file
+            // named with a newline) become U+FFFD.
+            fields: KEY_FIELDS
+                .into_iter()
+                .zip(values.map(|v| v.replace(char::is_control, "\u{fffd}")))
+                .collect(),
+            width: job.width,
+            height: job.height,
+            spp: job.spp,
+            adaptive_base: job.adaptive.map(|a| a.base()),
+        }
+    }
+
+    /// Image width.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Image height.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Samples per pixel of the whole render.
+    #[must_use]
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    /// The base sample count if the render is adaptive: each pixel then
+    /// holds between it and [`RenderKey::spp`] samples.
+    #[must_use]
+    pub fn adaptive_base(&self) -> Option<u32> {
+        self.adaptive_base
+    }
+
+    /// The fields as (name, value), in file order.
+    #[must_use]
+    pub fn fields(&self) -> &[(&'static str, String)] {
+        &self.fields
+    }
+
+    /// The value of field `name`.
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&str> {
+        self.fields
+            .iter()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The first field where `other` differs: (name, ours, theirs).
+    #[must_use]
+    pub fn first_difference<'a>(
+        &'a self,
+        other: &'a RenderKey,
+    ) -> Option<(&'a str, &'a str, &'a str)> {
+        self.fields
+            .iter()
+            .zip(&other.fields)
+            .find(|(a, b)| a.1 != b.1)
+            .map(|(a, b)| (a.0, a.1.as_str(), b.1.as_str()))
+    }
+}
+
+/// The crate version and the output revision: a change of either may
+/// change pixels, so parts of different builds do not merge.
+#[must_use]
+pub fn version() -> String {
+    format!(
+        "{}+r{}",
+        env!("CARGO_PKG_VERSION"),
+        strata::render::OUTPUT_REVISION
+    )
+}
+
+/// A filter as text: its name, radius and shape parameters.
+#[must_use]
+pub fn filter_text(f: &strata::render::PixelFilter) -> String {
+    use strata::filter::FilterKind;
+    let r = f.radius();
+    match f.kind() {
+        FilterKind::Gaussian { sigma } => format!("gaussian r={r:?} sigma={sigma:?}"),
+        FilterKind::Mitchell { b, c } => format!("mitchell r={r:?} b={b:?} c={c:?}"),
+        FilterKind::Lanczos { tau } => format!("lanczos r={r:?} tau={tau:?}"),
+        k => format!("{} r={r:?}", k.name()),
+    }
+}
+
+/// Adaptive sampling as text: `off`, or `threshold=T base=B max=M`.
+#[must_use]
+pub fn adaptive_text(a: Option<strata::render::Adaptive>) -> String {
+    match a {
+        None => "off".to_string(),
+        Some(a) => format!(
+            "threshold={:?} base={} max={}",
+            a.threshold(),
+            a.base(),
+            a.max()
+        ),
+    }
+}
+
+/// Parses [`adaptive_text`].
+pub(super) fn parse_adaptive(s: &str) -> Option<Option<strata::render::Adaptive>> {
+    if s == "off" {
+        return Some(None);
+    }
+    let v: Vec<&str> = s.split(' ').collect();
+    let [t, b, m] = v[..] else { return None };
+    let t: f32 = t.strip_prefix("threshold=")?.parse().ok()?;
+    let b: u32 = b.strip_prefix("base=")?.parse().ok()?;
+    let m: u32 = m.strip_prefix("max=")?.parse().ok()?;
+    strata::render::Adaptive::new(b, m, t).ok().map(Some)
+}
+
+/// `x0,x1,y0,y1` of a window.
+#[must_use]
+pub fn window_text(w: Tile) -> String {
+    format!("{},{},{},{}", w.x0, w.x0 + w.width, w.y0, w.y0 + w.height)
+}
+
+/// Parses [`window_text`] into a non-empty window.
+pub(super) fn parse_window(s: &str) -> Option<Tile> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|t| t.parse().ok())
+        .collect::<Option<_>>()?;
+    let [x0, x1, y0, y1] = v[..] else { return None };
+    // `then`, not `then_some`: the widths must not be computed when empty.
+    (x0 < x1 && y0 < y1).then(|| Tile {
+        x0,
+        y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
+}
+
+/// `A..B` of a range of sample indices.
+#[must_use]
+pub fn samples_text(s: &Range<u32>) -> String {
+    format!("{}..{}", s.start, s.end)
+}
+
+/// Parses `A..B` with `A < B`.
+pub fn parse_samples(s: &str) -> Option<Range<u32>> {
+    let (a, b) = s.split_once("..")?;
+    let (a, b): (u32, u32) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
+    (a < b).then_some(a..b)
+}

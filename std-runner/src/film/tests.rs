@@ -1,0 +1,154 @@
+//! Films through their bytes and through merges: round trips, damaged and
+//! hostile files, adaptive sample counts, parts of another render.
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+use strata::render::{PixelSum, Tile};
+
+use super::{Film, KEY_FIELDS, RenderKey, merge};
+
+fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
+    let job_key = |k: &str| match k {
+        "size" => format!("{width}x{height}"),
+        "spp" => "8".to_string(),
+        "adaptive" => "off".to_string(),
+        _ => format!("{k}-value"),
+    };
+    let n = samples.end - samples.start;
+    Film {
+        key: RenderKey {
+            fields: KEY_FIELDS.iter().map(|&k| (k, job_key(k))).collect(),
+            width,
+            height,
+            spp: 8,
+            adaptive_base: None,
+        },
+        window,
+        pixels: (0..window.area())
+            .map(|i| PixelSum {
+                sum: [i as i64, -(i as i64), 1 << 40],
+                weight: (n as i64 - 1) << 24,
+                samples: n - 1,
+                dropped: 1,
+            })
+            .collect(),
+        samples,
+    }
+}
+
+fn tile(x0: u32, y0: u32, width: u32, height: u32) -> Tile {
+    Tile {
+        x0,
+        y0,
+        width,
+        height,
+    }
+}
+
+#[test]
+fn films_round_trip_through_bytes() {
+    let f = film(7, 5, tile(2, 1, 3, 4), 2..5);
+    assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
+}
+
+fn refused(bytes: &[u8]) -> String {
+    format!("{:#}", Film::from_bytes(bytes).unwrap_err())
+}
+
+#[test]
+fn damaged_or_hostile_films_are_refused() {
+    let good = film(7, 5, tile(2, 1, 3, 4), 2..5).to_bytes();
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    let edit = |from: &str, to: &str| {
+        let t = text(&good);
+        let (head, _) = t.split_once("\n\n").unwrap();
+        let body = &good[head.len() + 2..];
+        let mut out = head.replacen(from, to, 1).into_bytes();
+        out.extend_from_slice(b"\n\n");
+        out.extend_from_slice(body);
+        out
+    };
+    // A huge size would make a merge allocate it.
+    let e = refused(&edit("size=7x5", "size=4000000000x4000000000"));
+    assert!(e.contains("beyond what strata renders"), "{e}");
+    let e = refused(&edit("size=7x5", "size=4x5"));
+    assert!(e.contains("outside the 4x5 image"), "{e}");
+    let e = refused(&edit("samples=2..5", "samples=2..9"));
+    assert!(e.contains("exceed spp 8"), "{e}");
+    let e = refused(&edit("samples=2..5", "samples=1..5"));
+    assert!(
+        e.contains("holds 3 samples where the range 1..5 has 4"),
+        "{e}"
+    );
+    let e = refused(&edit("window=2,5,1,5", "window=5,2,1,5"));
+    assert!(e.contains("bad `window`"), "{e}");
+    let e = refused(&edit("seed=seed-value\n", ""));
+    assert!(e.contains("no `seed`"), "{e}");
+    let e = refused(&good[..good.len() - 1]);
+    assert!(e.contains("truncated"), "{e}");
+    let e = refused(&good[..40]);
+    assert!(e.contains("truncated"), "{e}");
+    let e = refused(b"strata-film 3\n\nxyz");
+    assert!(e.contains("no `version`"), "{e}");
+    let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
+    assert!(e.contains("repeats `seed`"), "{e}");
+    for old in [&b"strata-film 1\n"[..], b"strata-film 2\n"] {
+        let e = refused(old);
+        assert!(e.contains("another format version"), "{e}");
+    }
+    let e = refused(b"");
+    assert!(e.contains("not a Strata film"), "{e}");
+}
+
+#[test]
+fn adaptive_films_hold_counts_from_the_base_to_the_maximum() {
+    let mut f = film(7, 5, tile(2, 1, 3, 4), 0..8);
+    f.key.fields[11].1 = "threshold=0.05 base=2 max=8".into();
+    f.key.adaptive_base = Some(2);
+    for (i, p) in f.pixels.iter_mut().enumerate() {
+        p.samples = 1 + 2 * (i as u32 % 4); // 2, 4, 6, 8 with the dropped one
+    }
+    assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
+    for bad in [0, 2] {
+        let mut odd = f.clone();
+        odd.pixels[3].samples = bad; // 1 or 3 taken: no batch ends there
+        let e = refused(&odd.to_bytes());
+        let want = format!(
+            "holds {} samples where the range 0..8 has a multiple of 2",
+            bad + 1
+        );
+        assert!(e.contains(&want), "{e}");
+        // Built in code, the merge checks the same.
+        let names = [PathBuf::from("odd")];
+        let e = format!("{:#}", merge(&[odd], &names).unwrap_err());
+        assert!(e.contains(&want), "{e}");
+    }
+    let mut part = f.clone();
+    part.samples = 0..4;
+    let e = refused(&part.to_bytes());
+    assert!(e.contains("must cover samples 0..8 with max=8"), "{e}");
+    let mut other = f.clone();
+    other.key.fields[11].1 = "threshold=0.05 base=2 max=6".into();
+    let e = refused(&other.to_bytes());
+    assert!(e.contains("with max=6"), "{e}");
+    other.key.fields[11].1 = "threshold=-1 base=2 max=8".into();
+    let e = refused(&other.to_bytes());
+    assert!(e.contains("bad `adaptive`"), "{e}");
+}
+
+#[test]
+fn merge_names_the_first_differing_field() {
+    let a = film(4, 2, tile(0, 0, 2, 2), 0..8);
+    let mut b = film(4, 2, tile(2, 0, 2, 2), 0..8);
+    b.key.fields[3].1 = "another camera".into();
+    let names = [PathBuf::from("a"), PathBuf::from("b")];
+    let e = merge(&[a.clone(), b], &names).unwrap_err().to_string();
+    assert!(
+        e.contains("`b` is from another render than `a`: camera"),
+        "{e}"
+    );
+    let ok = merge(&[a.clone(), film(4, 2, tile(2, 0, 2, 2), 0..8)], &names).unwrap();
+    assert_eq!(ok.pixels[0], a.pixels[0]);
+    assert_eq!(ok.window, tile(0, 0, 4, 2));
+}

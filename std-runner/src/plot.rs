@@ -1,0 +1,231 @@
+//! Drawing shared by the studies and the spp maps: the bundled font, a
+//! colour per sampler, plotters charts drawn into 8-bit RGB, labelled
+//! panels side by side, the spp heat map, and the PNG a study's image is
+//! written as. Each chart itself lives with its study.
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use anyhow::{Context, Result, bail};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use strata::render::PixelSum;
+
+use crate::image_io::{Transfer, write_png_rgb8};
+use crate::render::SamplerKind;
+
+/// plotters' drawing area over an 8-bit RGB buffer.
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+/// What drawing on an [`Area`] returns.
+pub(crate) type Drawn =
+    Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
+
+/// Registers the bundled font (Ubuntu Light, from `epaint_default_fonts`)
+/// as plotters' `sans-serif` once, so text draws the same on any machine
+/// and needs no system fonts.
+fn fonts() -> Result<()> {
+    static DONE: OnceLock<bool> = OnceLock::new();
+    let ok = *DONE.get_or_init(|| {
+        plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        )
+        .is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        bail!("the bundled font did not load")
+    }
+}
+
+/// Line colours, one per sampler, in [`SamplerKind`] order.
+pub(crate) fn colour(sampler: SamplerKind) -> RGBColor {
+    match sampler {
+        SamplerKind::Independent => RGBColor(0xd6, 0x27, 0x28),
+        SamplerKind::Grid => RGBColor(0x7f, 0x7f, 0x7f),
+        SamplerKind::Stratified => RGBColor(0x1f, 0x77, 0xb4),
+        SamplerKind::Sobol => RGBColor(0x2c, 0xa0, 0x2c),
+        SamplerKind::Halton => RGBColor(0x94, 0x67, 0xbd),
+    }
+}
+
+/// A `width × height` chart as 8-bit RGB: `draw` draws on a white area,
+/// with the bundled font loaded.
+pub(crate) fn chart(
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(&Area<'_>) -> Drawn,
+) -> Result<Vec<u8>> {
+    fonts()?;
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    draw_on(&mut buf, width, height, "plotting", |root| {
+        root.fill(&WHITE)?;
+        draw(root)
+    })?;
+    Ok(buf)
+}
+
+/// Draws on `buf`, an 8-bit RGB image of `width × height`; errors say
+/// `what` was being drawn.
+fn draw_on(
+    buf: &mut [u8],
+    width: u32,
+    height: u32,
+    what: &str,
+    draw: impl FnOnce(&Area<'_>) -> Drawn,
+) -> Result<()> {
+    let root = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
+    draw(&root)
+        .and_then(|()| root.present())
+        .map_err(|e| anyhow::anyhow!("{what}: {e:?}"))
+}
+
+/// The frame every study chart shares: `title` as the caption, the margin,
+/// and label areas (`y_labels` pixels wide for the y axis's).
+pub(crate) fn titled<'a, 'b>(
+    root: &'a Area<'b>,
+    title: &str,
+    y_labels: u32,
+) -> ChartBuilder<'a, 'static, BitMapBackend<'b>> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(y_labels);
+    builder
+}
+
+/// A legend entry for a line drawn in `style`: a short stroke of it.
+pub(crate) fn legend_line(
+    style: impl Into<ShapeStyle> + Copy,
+) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style)
+}
+
+/// Draws `chart`'s legend at `position`, on a bordered, nearly opaque
+/// white box so lines behind it stay faintly visible.
+pub(crate) fn legend<'a, 'b: 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, BitMapBackend<'b>, CT>,
+    position: SeriesLabelPosition,
+) -> Drawn {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+}
+
+/// Puts `panels` (each `width × height` 8-bit RGB, already encoded) side
+/// by side with a gap between them and a caption band under each holding
+/// its label; returns the 8-bit RGB buffer and its size.
+pub fn side_by_side(
+    panels: &[(impl AsRef<str>, impl AsRef<[u8]>)],
+    width: u32,
+    height: u32,
+) -> Result<(Vec<u8>, u32, u32)> {
+    fonts()?;
+    const GAP: u32 = 6;
+    const BAND: u32 = 30;
+    let n = panels.len() as u32;
+    let w = n
+        .checked_mul(width + GAP)
+        .and_then(|x| x.checked_add(GAP))
+        .filter(|&w| w <= 1 << 16)
+        .ok_or_else(|| anyhow::anyhow!("{n} panels of width {width} make too wide an image"))?;
+    let h = height + GAP + BAND;
+    let (wu, gap) = (w as usize, GAP as usize);
+    let mut buf = vec![255u8; wu * h as usize * 3];
+    let row = width as usize * 3;
+    for (i, (_, rgb)) in panels.iter().enumerate() {
+        let rgb = rgb.as_ref();
+        assert_eq!(rgb.len(), row * height as usize);
+        let x0 = gap + i * (width as usize + gap);
+        for (y, line) in rgb.chunks_exact(row).enumerate() {
+            let at = ((y + gap) * wu + x0) * 3;
+            buf[at..at + row].copy_from_slice(line);
+        }
+    }
+    draw_on(&mut buf, w, h, "drawing labels", |root| {
+        let style = TextStyle::from(("sans-serif", 18)).color(&BLACK).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ),
+        );
+        for (i, (label, _)) in panels.iter().enumerate() {
+            let cx = GAP + i as u32 * (width + GAP) + width / 2;
+            let cy = GAP + height + BAND / 2;
+            root.draw_text(label.as_ref(), &style, (cx as i32, cy as i32))?;
+        }
+        Ok(())
+    })?;
+    Ok((buf, w, h))
+}
+
+/// The heat map of the samples each pixel took ([`PixelSum::taken`]), as
+/// 8-bit RGB: viridis on a log scale, from `base` samples (dark blue) to
+/// `max` (yellow). Counts outside are clamped; with `max == base` every
+/// pixel is dark.
+#[must_use]
+pub fn spp_heat_map(pixels: &[PixelSum], base: u32, max: u32) -> Vec<u8> {
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    let lo = (base.max(1) as f64).ln();
+    let span = (max.max(base).max(1) as f64).ln() - lo;
+    pixels
+        .iter()
+        .flat_map(|p| {
+            let taken = p.taken().max(1) as f64;
+            let t = if span > 0.0 {
+                ((taken.ln() - lo) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let c: RGBColor = ViridisRGB.get_color_normalized(t, 0.0, 1.0);
+            [c.0, c.1, c.2]
+        })
+        .collect()
+}
+
+/// Writes an 8-bit RGB buffer as an sRGB PNG, atomically.
+pub fn write_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<()> {
+    let meta = [(
+        "Software".to_string(),
+        format!("strata {}", env!("CARGO_PKG_VERSION")),
+    )];
+    write_png_rgb8(path, width, height, bytes, Transfer::Srgb, &meta)
+        .with_context(|| format!("writing `{}`", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn side_by_side_places_panels_and_labels() {
+        let red = [255, 0, 0].repeat(20 * 10);
+        let blue = [0, 0, 255].repeat(20 * 10);
+        let (buf, w, h) = side_by_side(&[("red", red), ("blue", blue)], 20, 10).unwrap();
+        assert_eq!((w, h), (2 * 20 + 3 * 6, 10 + 6 + 30));
+        let px = |x: u32, y: u32| {
+            let at = ((y * w + x) * 3) as usize;
+            [buf[at], buf[at + 1], buf[at + 2]]
+        };
+        assert_eq!(px(6, 6), [255, 0, 0]);
+        assert_eq!(px(6 + 20 + 6, 6), [0, 0, 255]);
+        assert_eq!(px(0, 0), [255, 255, 255]);
+        // Some dark label pixels in the band under each panel.
+        for x0 in [6, 32] {
+            let dark = (x0..x0 + 20)
+                .flat_map(|x| (16..h).map(move |y| (x, y)))
+                .filter(|&(x, y)| px(x, y)[0] < 128)
+                .count();
+            assert!(dark > 5, "no label under the panel at {x0}");
+        }
+    }
+}
