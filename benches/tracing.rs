@@ -21,19 +21,19 @@ fn intersect(c: &mut Criterion) {
         let packets: Vec<RayPacket8> = w.rays.chunks(8).map(RayPacket8::from_rays).collect();
         let scalar = |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| closest_hit(black_box(r), &w.spheres).is_some())
+                .filter(|r| closest_hit(&w.spheres, black_box(r)).is_some())
                 .count()
         };
         let one_by_8 = |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| closest_hit_1x8(black_box(r), &set).is_some())
+                .filter(|r| closest_hit_1x8(&set, black_box(r)).is_some())
                 .count()
         };
         let packet = |ps: &[RayPacket8]| {
             ps.iter()
                 .map(|p| {
                     let mut hits = HitPacket8::NONE;
-                    closest_hit_x8(black_box(p), &set, &mut hits);
+                    closest_hit_x8(&set, black_box(p), &mut hits);
                     hits.hit_bits().count_ones() as usize
                 })
                 .sum::<usize>()
@@ -59,17 +59,17 @@ fn intersect(c: &mut Criterion) {
             shadows.chunks(8).map(RayPacket8::from_rays).collect();
         let any_scalar = |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| any_hit(black_box(r), &w.spheres))
+                .filter(|r| any_hit(&w.spheres, black_box(r)))
                 .count()
         };
         let any_1x8 = |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| any_hit_1x8(black_box(r), &set))
+                .filter(|r| any_hit_1x8(&set, black_box(r)))
                 .count()
         };
         let any_packet = |ps: &[RayPacket8]| {
             ps.iter()
-                .map(|p| any_hit_x8(black_box(p), &set).count_ones() as usize)
+                .map(|p| any_hit_x8(&set, black_box(p)).count_ones() as usize)
                 .sum::<usize>()
         };
         let blocked = any_scalar(&shadows);
@@ -132,7 +132,7 @@ fn bvh(c: &mut Criterion) {
             b.iter(|| {
                 brute
                     .iter()
-                    .filter(|r| closest_hit_1x8(black_box(r), &set).is_some())
+                    .filter(|r| closest_hit_1x8(&set, black_box(r)).is_some())
                     .count()
             })
         });
@@ -150,7 +150,7 @@ fn bvh(c: &mut Criterion) {
                 let mut stack = BvhStack::new();
                 packets.iter().fold(0i64, |a, p| {
                     let mut h = HitPacket8::NONE;
-                    tree.closest_hit_x8_with(black_box(p), &mut h, 2, &mut stack);
+                    tree.closest_hit_x8_with(black_box(p), &mut h, &mut stack);
                     a + h.spheres()[0] as i64
                 })
             })

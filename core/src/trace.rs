@@ -3,16 +3,37 @@
 //!
 //! # Kernels
 //!
-//! | query | scalar reference | 1 ray × 8 spheres | 8 rays × spheres |
-//! |---|---|---|---|
-//! | one sphere | [`intersect_sphere`] | | |
-//! | closest hit | [`closest_hit`] | [`closest_hit_1x8`] | [`closest_hit_x8`] |
-//! | any hit (shadow rays) | [`any_hit`] | [`any_hit_1x8`] | [`any_hit_x8`] |
+//! | query | scalar reference | 1 ray × 8 spheres | 8 rays × spheres | through a [`Bvh`] |
+//! |---|---|---|---|---|
+//! | one sphere | [`intersect_sphere`] | | | |
+//! | closest hit | [`closest_hit`] | [`closest_hit_1x8`] | [`closest_hit_x8`] | [`Bvh::closest_hit`], [`Bvh::closest_hit_x8`] |
+//! | any hit (shadow rays) | [`any_hit`] | [`any_hit_1x8`] | [`any_hit_x8`] | [`Bvh::any_hit`], [`Bvh::any_hit_x8`] |
 //!
 //! Suffixes: `_1x8` is one ray against the spheres of a [`SphereSet`] eight
 //! at a time (for incoherent rays); `_x8` is a [`RayPacket8`] of eight rays
 //! against one sphere at a time (for coherent rays, e.g. camera rays of
 //! eight neighbouring pixels).
+//!
+//! Every query has one shape: what is traced first (a [`Sphere`], a slice,
+//! a [`SphereSet`], or the receiver: a [`Bvh`] or a
+//! [`Scene`](crate::render::Scene)), then the [`Ray`] or [`RayPacket8`],
+//! then, for packet closest hits, the [`HitPacket8`] to update, then, for
+//! the `_with` queries, the caller's [`BvhStack`].
+//!
+//! # The rest of the module
+//!
+//! - Data: [`Ray`], [`Sphere`] (with [`Sphere::spawn_origin`] for rays
+//!   leaving a surface), [`Hit`].
+//! - 8-wide storage: [`SphereChunk8`] and [`SphereSet`] (sized by
+//!   [`chunks_for`], refused with [`SphereSetError`]), [`RayPacket8`],
+//!   [`HitPacket8`].
+//! - The BVH, which returns the brute-force bits faster from about 16
+//!   spheres: [`Bvh`] and its queries, [`BvhStack`] (reusable traversal
+//!   memory), [`BvhNode8`] and [`BvhStorage`] (caller storage, sized by
+//!   [`bvh_storage_for`]), [`BvhError`], and its limits
+//!   [`BVH_MAX_SPHERES`], [`BVH_MAX_COORDINATE`], [`BVH_MAX_DEPTH`] and
+//!   the box slack [`BVH_SLACK_ULPS`].
+//! - The build's SIMD level: [`simd_level`], [`SimdLevel`].
 //!
 //! # The same bits on every path
 //!
@@ -171,15 +192,15 @@ impl Sphere {
 /// The offset that moves a point on a sphere off its surface for good, in
 /// units of `f32::EPSILON · (max |centre component| + radius)`.
 /// Measured: 1 suffices for every case in `tests/tracing/precision.rs` (0.5 does
-/// not); 8 is the margin.
-pub const SPAWN_OFFSET_ULPS: f32 = 8.0;
+/// not); 8 is the margin. Callers see it through [`Sphere::offset_bound`].
+const SPAWN_OFFSET_ULPS: f32 = 8.0;
 
 impl Sphere {
     /// The distance a new ray's origin keeps from this sphere's surface:
-    /// `SPAWN_OFFSET_ULPS · f32::EPSILON · (max |cᵢ| + r)`. It bounds the
-    /// rounding of `o − c` and `|o − c|² − r²` for points on the surface,
-    /// so a ray spawned that far out (in) cannot re-hit the surface it
-    /// leaves at `t ≈ 0`.
+    /// `8 · f32::EPSILON · (max |cᵢ| + r)`. It bounds the rounding of
+    /// `o − c` and `|o − c|² − r²` for points on the surface, so a ray
+    /// spawned that far out (in) cannot re-hit the surface it leaves at
+    /// `t ≈ 0`.
     ///
     /// ```
     /// use glam::Vec3;
@@ -215,9 +236,9 @@ impl Sphere {
     /// // Leaving almost parallel to the surface: no self-hit.
     /// let dir = Vec3::new(1.0, 1e-4, 0.0).normalize();
     /// let o = s.spawn_origin(p, true);
-    /// assert_eq!(intersect_sphere(&Ray::new(o, dir), &s), None);
+    /// assert_eq!(intersect_sphere(&s, &Ray::new(o, dir)), None);
     /// // Entering: the ray crosses to the far side, 200 away.
-    /// let t = intersect_sphere(&Ray::new(s.spawn_origin(p, false), -Vec3::Y), &s).unwrap();
+    /// let t = intersect_sphere(&s, &Ray::new(s.spawn_origin(p, false), -Vec3::Y)).unwrap();
     /// assert!((t - 200.0).abs() < 1e-3);
     /// ```
     #[inline]
@@ -363,15 +384,15 @@ fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
 /// use glam::Vec3;
 /// use strata::trace::{Ray, Sphere, intersect_sphere};
 /// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
-/// assert_eq!(intersect_sphere(&Ray::new(Vec3::ZERO, -Vec3::Z), &s), Some(4.0));
+/// assert_eq!(intersect_sphere(&s, &Ray::new(Vec3::ZERO, -Vec3::Z)), Some(4.0));
 /// // From inside, the far side.
 /// let inside = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::X);
-/// assert_eq!(intersect_sphere(&inside, &s), Some(1.0));
-/// assert_eq!(intersect_sphere(&Ray::new(Vec3::ZERO, Vec3::Z), &s), None);
+/// assert_eq!(intersect_sphere(&s, &inside), Some(1.0));
+/// assert_eq!(intersect_sphere(&s, &Ray::new(Vec3::ZERO, Vec3::Z)), None);
 /// ```
 #[inline]
 #[must_use]
-pub fn intersect_sphere(ray: &Ray, sphere: &Sphere) -> Option<f32> {
+pub fn intersect_sphere(sphere: &Sphere, ray: &Ray) -> Option<f32> {
     let t = ray_sphere_t(ray, sphere, ray.t_max);
     (t < f32::INFINITY).then_some(t)
 }
@@ -387,13 +408,13 @@ pub fn intersect_sphere(ray: &Ray, sphere: &Sphere) -> Option<f32> {
 /// use glam::Vec3;
 /// use strata::trace::{Ray, Sphere, intersect_sphere_naive};
 /// let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
-/// assert_eq!(intersect_sphere_naive(&Ray::new(Vec3::ZERO, -Vec3::Z), &s), Some(4.0));
+/// assert_eq!(intersect_sphere_naive(&s, &Ray::new(Vec3::ZERO, -Vec3::Z)), Some(4.0));
 /// ```
 #[inline]
 #[must_use]
 // `!(x > 0)` on purpose: a NaN must take the miss branch.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
-pub fn intersect_sphere_naive(ray: &Ray, sphere: &Sphere) -> Option<f32> {
+pub fn intersect_sphere_naive(sphere: &Sphere, ray: &Ray) -> Option<f32> {
     if !(sphere.radius > 0.0) {
         return None;
     }
@@ -427,12 +448,12 @@ pub fn intersect_sphere_naive(ray: &Ray, sphere: &Sphere) -> Option<f32> {
 ///     Sphere::new(Vec3::new(0.0, 0.0, -10.0), 1.0),
 ///     Sphere::new(Vec3::new(0.0, 0.0, -4.0), 1.0),
 /// ];
-/// let hit = closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z), &spheres).unwrap();
+/// let hit = closest_hit(&spheres, &Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
 /// assert_eq!((hit.sphere, hit.t), (1, 3.0));
 /// ```
 #[inline]
 #[must_use]
-pub fn closest_hit(ray: &Ray, spheres: &[Sphere]) -> Option<Hit> {
+pub fn closest_hit(spheres: &[Sphere], ray: &Ray) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     let mut t_max = ray.t_max;
     for (i, s) in spheres.iter().enumerate() {
@@ -458,13 +479,13 @@ pub fn closest_hit(ray: &Ray, spheres: &[Sphere]) -> Option<Hit> {
 /// use strata::trace::{any_hit, Ray, Sphere};
 /// let blocker = [Sphere::new(Vec3::new(0.0, 2.0, 0.0), 0.5)];
 /// let to_light = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 5.0);
-/// assert!(any_hit(&to_light, &blocker));
+/// assert!(any_hit(&blocker, &to_light));
 /// // A light closer than the blocker is not occluded by it.
-/// assert!(!any_hit(&to_light.with_range(1e-4, 1.0), &blocker));
+/// assert!(!any_hit(&blocker, &to_light.with_range(1e-4, 1.0)));
 /// ```
 #[inline]
 #[must_use]
-pub fn any_hit(ray: &Ray, spheres: &[Sphere]) -> bool {
+pub fn any_hit(spheres: &[Sphere], ray: &Ray) -> bool {
     spheres
         .iter()
         .any(|s| ray_sphere_t(ray, s, ray.t_max) < f32::INFINITY)
@@ -558,18 +579,18 @@ mod tests {
     #[test]
     fn origin_inside_hits_the_far_side() {
         let r = Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::Z);
-        assert_eq!(intersect_sphere(&r, &UNIT), Some(0.5));
+        assert_eq!(intersect_sphere(&UNIT, &r), Some(0.5));
         let r = Ray::new(Vec3::new(0.0, 0.0, 0.5), -Vec3::Z);
-        assert_eq!(intersect_sphere(&r, &UNIT), Some(1.5));
+        assert_eq!(intersect_sphere(&UNIT, &r), Some(1.5));
     }
 
     #[test]
     fn tangent_rays_hit_once_and_near_misses_miss() {
         // Passing at exactly distance r: Δ = 0, a (double) hit.
         let r = Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X);
-        assert_eq!(intersect_sphere(&r, &UNIT), Some(5.0));
+        assert_eq!(intersect_sphere(&UNIT, &r), Some(5.0));
         let r = Ray::new(Vec3::new(-5.0, 1.000_001, 0.0), Vec3::X);
-        assert_eq!(intersect_sphere(&r, &UNIT), None);
+        assert_eq!(intersect_sphere(&UNIT, &r), None);
     }
 
     #[test]
@@ -577,38 +598,38 @@ mod tests {
         let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         for radius in [0.0, -1.0, f32::NAN, -0.0] {
             let s = Sphere::new(Vec3::ZERO, radius);
-            assert_eq!(intersect_sphere(&r, &s), None, "radius {radius}");
-            assert_eq!(intersect_sphere_naive(&r, &s), None, "radius {radius}");
-            assert!(!any_hit(&r, &[s]));
+            assert_eq!(intersect_sphere(&s, &r), None, "radius {radius}");
+            assert_eq!(intersect_sphere_naive(&s, &r), None, "radius {radius}");
+            assert!(!any_hit(&[s], &r));
         }
     }
 
     #[test]
     fn interval_ends_are_open() {
         let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z); // hits at 4 and 6
-        assert_eq!(intersect_sphere(&r.with_range(4.0, 10.0), &UNIT), Some(6.0));
-        assert_eq!(intersect_sphere(&r.with_range(0.0, 4.0), &UNIT), None);
-        assert_eq!(intersect_sphere(&r.with_range(3.0, 6.0), &UNIT), Some(4.0));
-        assert_eq!(intersect_sphere(&r.with_range(4.0, 6.0), &UNIT), None);
-        assert_eq!(intersect_sphere(&r.with_range(6.0, 10.0), &UNIT), None);
-        assert_eq!(intersect_sphere(&r.with_range(7.0, 3.0), &UNIT), None); // empty
-        assert_eq!(intersect_sphere(&r.with_range(f32::NAN, 10.0), &UNIT), None);
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(4.0, 10.0)), Some(6.0));
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(0.0, 4.0)), None);
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(3.0, 6.0)), Some(4.0));
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(4.0, 6.0)), None);
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(6.0, 10.0)), None);
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(7.0, 3.0)), None); // empty
+        assert_eq!(intersect_sphere(&UNIT, &r.with_range(f32::NAN, 10.0)), None);
     }
 
     #[test]
     fn huge_and_tiny_coordinates() {
         let far = Sphere::new(Vec3::new(1e7, 0.0, 0.0), 1e3);
         let r = Ray::new(Vec3::ZERO, Vec3::X);
-        assert_eq!(intersect_sphere(&r, &far), Some(1e7 - 1e3));
+        assert_eq!(intersect_sphere(&far, &r), Some(1e7 - 1e3));
         let tiny = Sphere::new(Vec3::new(0.0, 0.0, -1e-3), 1e-5);
-        let t = intersect_sphere(&Ray::new(Vec3::ZERO, -Vec3::Z), &tiny).unwrap();
+        let t = intersect_sphere(&tiny, &Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
         assert!((t - 0.99e-3).abs() < 1e-9, "{t}");
     }
 
     #[test]
     fn ties_go_to_the_lowest_index() {
         let spheres = [UNIT, Sphere::new(Vec3::new(0.0, 0.0, -10.0), 1.0), UNIT];
-        let hit = closest_hit(&Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), &spheres);
+        let hit = closest_hit(&spheres, &Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z));
         assert_eq!(hit, Some(Hit { t: 4.0, sphere: 0 }));
     }
 
@@ -628,19 +649,19 @@ mod tests {
         let blocker = Sphere::new(Vec3::new(0.0, 2.5, 0.0), 0.3);
         let behind = Sphere::new(Vec3::new(0.0, 6.0, 0.0), 0.5);
         // One blocker: occluded (the course needs two hits).
-        assert!(any_hit(&shadow, &[surface, blocker]));
+        assert!(any_hit(&[surface, blocker], &shadow));
         // Only what lies beyond the light: not occluded (the course's
         // interval (1e-6, |d|²) reaches past the light when |d| > 1).
-        assert!(!any_hit(&shadow, &[surface, behind]));
+        assert!(!any_hit(&[surface, behind], &shadow));
         // The surface the ray leaves is never its own blocker.
-        assert!(!any_hit(&shadow, &[surface]));
+        assert!(!any_hit(&[surface], &shadow));
         // A light 0.6 away with a blocker 0.4–0.5 along: occluded. (The
         // course's interval ends at t = |d| in units of |d|, 0.36 away in
         // world units, so it never reaches this blocker.)
         let near_light = Vec3::new(0.0, 1.6, 0.0);
         let thin = Sphere::new(Vec3::new(0.0, 1.45, 0.0), 0.05);
         let r = Ray::new(p, Vec3::Y).with_range(0.0, (near_light - p).length());
-        assert!(any_hit(&r, &[surface, thin]));
+        assert!(any_hit(&[surface, thin], &r));
     }
 
     #[test]

@@ -311,18 +311,18 @@ fn tracing_lock() {
         for chunk in rays.chunks(8) {
             let packet_rays = RayPacket8::from_rays(chunk);
             let mut packet = HitPacket8::NONE;
-            closest_hit_x8(&packet_rays, &set, &mut packet);
+            closest_hit_x8(&set, &packet_rays, &mut packet);
             let mut bvh_packet = HitPacket8::NONE;
-            bvh.closest_hit_x8(&packet_rays, &mut bvh_packet, 2);
+            bvh.closest_hit_x8(&packet_rays, &mut bvh_packet);
             for (lane, ray) in chunk.iter().enumerate() {
-                let a = closest_hit(ray, &spheres);
-                assert_eq!(a, closest_hit_1x8(ray, &set));
+                let a = closest_hit(&spheres, ray);
+                assert_eq!(a, closest_hit_1x8(&set, ray));
                 assert_eq!(a, packet.hit(lane));
                 assert_eq!(a, bvh.closest_hit(ray));
                 assert_eq!(a, bvh_packet.hit(lane));
-                assert_eq!(any_hit(ray, &spheres), bvh.any_hit(ray));
+                assert_eq!(any_hit(&spheres, ray), bvh.any_hit(ray));
                 let (s, t) = a.map_or((u32::MAX, 0), |h| (h.sphere, h.t.to_bits()));
-                words.extend([s, t, any_hit(ray, &spheres) as u32]);
+                words.extend([s, t, any_hit(&spheres, ray) as u32]);
             }
         }
         digests.push(fnv(words));

@@ -30,7 +30,7 @@ pub extern "C" fn strata_check_trace(x0: f32, x1: f32) -> f32 {
     let Ok(set) = SphereSet::build(&spheres, &mut storage) else {
         return -1.0;
     };
-    closest_hit_1x8(&Ray::new(Vec3::ZERO, Vec3::X), &set).map_or(-1.0, |h| h.t)
+    closest_hit_1x8(&set, &Ray::new(Vec3::ZERO, Vec3::X)).map_or(-1.0, |h| h.t)
 }
 
 #[panic_handler]

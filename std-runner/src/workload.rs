@@ -228,7 +228,7 @@ pub fn trace_workloads() -> Vec<TraceWorkload> {
 pub fn shadow_rays(spheres: &[Sphere], rays: &[Ray], light: Vec3) -> Vec<Ray> {
     rays.iter()
         .filter_map(|r| {
-            let h = strata::trace::closest_hit(r, spheres)?;
+            let h = strata::trace::closest_hit(spheres, r)?;
             let s = spheres[h.sphere as usize];
             let p = r.at(h.t);
             let outside = r.dir.dot(p - s.center) < 0.0;

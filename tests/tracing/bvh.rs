@@ -179,13 +179,13 @@ fn bvh_matches_brute_force_bit_for_bit() {
         };
         let rays = rays(&spheres, n, &mut rng);
         for (k, ray) in rays.iter().enumerate() {
-            let want = closest_hit(ray, &spheres);
+            let want = closest_hit(&spheres, ray);
             let got = bvh.closest_hit(ray);
             let bits = |h: Option<strata::trace::Hit>| h.map(|h| (h.sphere, h.t.to_bits()));
             assert_eq!(bits(got), bits(want), "{name} ray {k}: {ray:?}");
             assert_eq!(
                 bvh.any_hit(ray),
-                any_hit(ray, &spheres),
+                any_hit(&spheres, ray),
                 "{name} ray {k}: {ray:?}"
             );
         }
@@ -195,18 +195,19 @@ fn bvh_matches_brute_force_bit_for_bit() {
             let packet = RayPacket8::from_rays(chunk);
             for fallback in [0, 2, 8] {
                 let mut hits = HitPacket8::NONE;
-                bvh.closest_hit_x8(&packet, &mut hits, fallback);
+                bvh.with_packet_fallback(fallback)
+                    .closest_hit_x8(&packet, &mut hits);
                 for (lane, ray) in chunk.iter().enumerate() {
                     assert_eq!(
                         hits.hit(lane),
-                        closest_hit(ray, &spheres),
+                        closest_hit(&spheres, ray),
                         "{name} x8/{fallback}"
                     );
                 }
             }
             let mut want = 0;
             for (lane, ray) in chunk.iter().enumerate() {
-                want |= (any_hit(ray, &spheres) as u32) << lane;
+                want |= (any_hit(&spheres, ray) as u32) << lane;
             }
             assert_eq!(bvh.any_hit_x8(&packet), want, "{name}");
         }
@@ -231,13 +232,14 @@ fn one_stack_serves_interleaved_queries() {
         for (k, chunk) in rays.chunks(8).enumerate() {
             let packet = RayPacket8::from_rays(chunk);
             let mut hits = HitPacket8::NONE;
-            bvh.closest_hit_x8_with(&packet, &mut hits, [0, 2, 8][k % 3], &mut stack);
+            bvh.with_packet_fallback([0, 2, 8][k % 3])
+                .closest_hit_x8_with(&packet, &mut hits, &mut stack);
             for (lane, ray) in chunk.iter().enumerate() {
-                let want = closest_hit(ray, &spheres);
+                let want = closest_hit(&spheres, ray);
                 assert_eq!(hits.hit(lane), want, "{name}: packet lane {lane}");
                 assert_eq!(
                     bvh.any_hit_with(ray, &mut stack),
-                    any_hit(ray, &spheres),
+                    any_hit(&spheres, ray),
                     "{name}"
                 );
                 assert_eq!(bvh.closest_hit_with(ray, &mut stack), want, "{name}");
@@ -258,10 +260,9 @@ fn ties_go_to_the_lowest_index() {
     let hit = bvh.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
     assert_eq!((hit.sphere, hit.t), (3, 4.0));
     let mut hits = HitPacket8::NONE;
-    bvh.closest_hit_x8(
+    bvh.with_packet_fallback(0).closest_hit_x8(
         &RayPacket8::from_rays(&[Ray::new(Vec3::ZERO, -Vec3::Z)]),
         &mut hits,
-        0,
     );
     assert_eq!(hits.hit(0).unwrap().sphere, 3);
 }
@@ -291,7 +292,7 @@ fn kernel_hit_points_stay_within_the_box_slack() {
         let dist = range(&mut rng, 0.0, 4.0) * (r + scale);
         let o = c + side * r * nudge - d * dist;
         let ray = Ray::new(o, d);
-        if let Some(t) = intersect_sphere(&ray, &s) {
+        if let Some(t) = intersect_sphere(&s, &ray) {
             let p = o.as_dvec3() + d.as_dvec3() * t as f64;
             let excess = (p - c.as_dvec3()).length() - r as f64;
             let l1 = |v: Vec3| (v.x.abs() + v.y.abs() + v.z.abs()) as f64;
@@ -341,7 +342,7 @@ fn degenerate_input_builds_within_the_depth_bound() {
     let bvh = store.build(&same);
     assert!(bvh.depth() <= BVH_MAX_DEPTH, "depth {}", bvh.depth());
     let ray = Ray::new(Vec3::new(1.0, 1.0, 5.0), -Vec3::Z);
-    assert_eq!(bvh.closest_hit(&ray), closest_hit(&ray, &same));
+    assert_eq!(bvh.closest_hit(&ray), closest_hit(&same, &ray));
     let line: Vec<Sphere> = (0..3000)
         .map(|i| {
             let x = 1.01f32.powi(i);

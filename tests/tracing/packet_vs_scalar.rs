@@ -128,16 +128,16 @@ fn kernels_match_scalar_on_a_million_rays() {
             let rays: Vec<Ray> = (0..8).map(|_| fz.ray(&spheres)).collect();
             let packet = RayPacket8::from_rays(&rays);
             let mut packet_hits = HitPacket8::NONE;
-            closest_hit_x8(&packet, &set, &mut packet_hits);
-            let occluded = any_hit_x8(&packet, &set);
+            closest_hit_x8(&set, &packet, &mut packet_hits);
+            let occluded = any_hit_x8(&set, &packet);
             for (lane, ray) in rays.iter().enumerate() {
-                let want = closest_hit(ray, &spheres);
+                let want = closest_hit(&spheres, ray);
                 let ctx = || format!("ray {ray:?}\nspheres {spheres:?}");
-                assert_eq!(key(closest_hit_1x8(ray, &set)), key(want), "1x8\n{}", ctx());
+                assert_eq!(key(closest_hit_1x8(&set, ray)), key(want), "1x8\n{}", ctx());
                 assert_eq!(key(packet_hits.hit(lane)), key(want), "packet\n{}", ctx());
-                let any = any_hit(ray, &spheres);
+                let any = any_hit(&spheres, ray);
                 assert_eq!(any, want.is_some(), "any_hit vs closest\n{}", ctx());
-                assert_eq!(any_hit_1x8(ray, &set), any, "any 1x8\n{}", ctx());
+                assert_eq!(any_hit_1x8(&set, ray), any, "any 1x8\n{}", ctx());
                 assert_eq!(occluded >> lane & 1 == 1, any, "any packet\n{}", ctx());
                 hits += want.is_some() as usize;
             }
@@ -161,15 +161,15 @@ fn inactive_lanes_are_untouched() {
     let sentinel_t = [9.0, 9.0, 9.0, 7.0, 6.0, 5.0, 4.0, 3.0];
     let sentinel_i = [-1, -1, -1, 40, 41, 42, 43, 44];
     let mut hits = HitPacket8::new(sentinel_t, sentinel_i);
-    closest_hit_x8(&packet, &set, &mut hits);
+    closest_hit_x8(&set, &packet, &mut hits);
     let (t, i) = (hits.t(), hits.spheres());
     assert_eq!(&t[..3], &[2.0; 3]);
     assert_eq!(&i[..3], &[0; 3]);
     assert_eq!(&t[3..], &sentinel_t[3..]);
     assert_eq!(&i[3..], &sentinel_i[3..]);
-    assert_eq!(any_hit_x8(&packet, &set), 0b111);
+    assert_eq!(any_hit_x8(&set, &packet), 0b111);
     // An all-inactive packet does nothing.
-    assert_eq!(any_hit_x8(&RayPacket8::from_rays(&[]), &set), 0);
+    assert_eq!(any_hit_x8(&set, &RayPacket8::from_rays(&[])), 0);
 }
 
 #[test]
@@ -188,8 +188,8 @@ fn a_nan_lane_does_not_poison_the_others() {
         let rays = [good, b, good, b, good, good, b, good];
         let packet = RayPacket8::from_rays(&rays);
         let mut hits = HitPacket8::NONE;
-        closest_hit_x8(&packet, &set, &mut hits);
-        let occluded = any_hit_x8(&packet, &set);
+        closest_hit_x8(&set, &packet, &mut hits);
+        let occluded = any_hit_x8(&set, &packet);
         for (lane, r) in rays.iter().enumerate() {
             if *r == good {
                 assert_eq!(hits.hit(lane), Some(Hit { t: 2.0, sphere: 0 }), "{b:?}");

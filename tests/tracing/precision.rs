@@ -14,7 +14,7 @@ use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
 
 /// The first root in the open interval, in f64 on the f32 inputs.
-fn reference(ray: &Ray, s: &Sphere) -> Option<f64> {
+fn reference(s: &Sphere, ray: &Ray) -> Option<f64> {
     let (o, d, c) = (
         ray.origin.as_dvec3(),
         ray.dir.as_dvec3(),
@@ -48,7 +48,7 @@ fn reference(ray: &Ray, s: &Sphere) -> Option<f64> {
 /// The chapter's discriminant alone, in f32: the comparison that shows why
 /// Strata switches to `b² − c` near big spheres.
 #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must miss
-fn rtg_only(ray: &Ray, s: &Sphere) -> Option<f32> {
+fn rtg_only(s: &Sphere, ray: &Ray) -> Option<f32> {
     let f = ray.origin - s.center;
     let b = f.dot(ray.dir);
     let l = f - ray.dir * b;
@@ -82,10 +82,10 @@ struct Errors {
     max_rel: f64,
 }
 
-fn measure(rays: &[Ray], s: &Sphere, f: impl Fn(&Ray, &Sphere) -> Option<f32>) -> Errors {
+fn measure(rays: &[Ray], s: &Sphere, f: impl Fn(&Sphere, &Ray) -> Option<f32>) -> Errors {
     let mut e = Errors::default();
     for ray in rays {
-        match (reference(ray, s), f(ray, s)) {
+        match (reference(s, ray), f(s, ray)) {
             (Some(w), Some(t)) => e.max_rel = e.max_rel.max(((t as f64 - w) / w).abs()),
             (None, None) => {}
             _ => e.wrong += 1,
@@ -191,7 +191,7 @@ fn spawned_rays_do_not_self_intersect() {
             let from = s.center + sample_uniform_sphere(u()).normalize() * (3.0 * s.radius);
             let aim = s.center + sample_uniform_sphere(u()).normalize() * (0.5 * s.radius);
             let camera = Ray::new(from, (aim - from).normalize());
-            let Some(t) = intersect_sphere(&camera, s) else {
+            let Some(t) = intersect_sphere(s, &camera) else {
                 continue;
             };
             let p = camera.at(t);
@@ -203,7 +203,7 @@ fn spawned_rays_do_not_self_intersect() {
 
             let o = s.spawn_origin(p, true);
             assert_eq!(
-                intersect_sphere(&Ray::new(o, out), s),
+                intersect_sphere(s, &Ray::new(o, out)),
                 None,
                 "self-hit leaving {s:?} at {p}"
             );
@@ -215,7 +215,7 @@ fn spawned_rays_do_not_self_intersect() {
             let chord = 2.0 * s.radius * inward.dot(-n);
             if chord > 100.0 * s.offset_bound() {
                 let oi = s.spawn_origin(p, false);
-                let t = intersect_sphere(&Ray::new(oi, inward), s);
+                let t = intersect_sphere(s, &Ray::new(oi, inward));
                 assert!(
                     t.is_some_and(|t| t > 0.5 * chord),
                     "inward from {p} on {s:?}: {t:?}"
@@ -224,7 +224,7 @@ fn spawned_rays_do_not_self_intersect() {
             }
 
             let course = Ray::new(p, out).with_range(1e-6, f32::INFINITY);
-            course_self_hits += intersect_sphere(&course, s).is_some() as usize;
+            course_self_hits += intersect_sphere(s, &course).is_some() as usize;
         }
     }
     let frac = course_self_hits as f64 / trials as f64;
@@ -256,10 +256,10 @@ fn discriminant_choice_sweeps_distance_over_radius() {
                 let axis = side * phi.cos() + to_c.cross(side) * phi.sin();
                 let d = (to_c * (1.0 - sin_t * sin_t).max(0.0).sqrt() + axis * sin_t).normalize();
                 let ray = Ray::new(o, d);
-                let want = reference(&ray, &s).is_some();
-                naive += (intersect_sphere_naive(&ray, &s).is_some() != want) as usize;
-                rtg += (rtg_only(&ray, &s).is_some() != want) as usize;
-                strata += (intersect_sphere(&ray, &s).is_some() != want) as usize;
+                let want = reference(&s, &ray).is_some();
+                naive += (intersect_sphere_naive(&s, &ray).is_some() != want) as usize;
+                rtg += (rtg_only(&s, &ray).is_some() != want) as usize;
+                strata += (intersect_sphere(&s, &ray).is_some() != want) as usize;
             }
             let best = naive.min(rtg);
             println!("r {radius} |f|/r {k}: wrong naive {naive}, chapter {rtg}, strata {strata}");

@@ -183,7 +183,7 @@ fn direct_light(
     // The shadow ray leaves on the side the shading normal faces.
     let here = scene.spheres()[hit.sphere as usize];
     let shadow = Ray::new(here.spawn_origin(surf.p, surf.front_face), wi);
-    let Some(t_light) = intersect_sphere(&shadow, &light) else {
+    let Some(t_light) = intersect_sphere(&light, &shadow) else {
         return Vec3::ZERO; // grazed the rim by rounding
     };
     scratch.stats.shadow_rays += 1;

@@ -10,10 +10,6 @@ use crate::trace::{
     closest_hit_1x8, closest_hit_x8,
 };
 
-/// Packet rays that continue alone in a BVH subtree when no more than
-/// this many of the 8 reach it (measured best for camera packets).
-const PACKET_FALLBACK: u32 = 2;
-
 /// The radiance of rays that leave the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Background {
@@ -359,7 +355,7 @@ impl<'a> Scene<'a> {
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
         match &self.bvh {
             Some(b) => b.closest_hit(ray),
-            None => closest_hit_1x8(ray, &self.set),
+            None => closest_hit_1x8(&self.set, ray),
         }
     }
 
@@ -369,7 +365,7 @@ impl<'a> Scene<'a> {
     pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
         match &self.bvh {
             Some(b) => b.closest_hit_with(ray, stack),
-            None => closest_hit_1x8(ray, &self.set),
+            None => closest_hit_1x8(&self.set, ray),
         }
     }
 
@@ -379,7 +375,7 @@ impl<'a> Scene<'a> {
     pub fn any_hit(&self, ray: &Ray) -> bool {
         match &self.bvh {
             Some(b) => b.any_hit(ray),
-            None => any_hit_1x8(ray, &self.set),
+            None => any_hit_1x8(&self.set, ray),
         }
     }
 
@@ -389,7 +385,7 @@ impl<'a> Scene<'a> {
     pub fn any_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> bool {
         match &self.bvh {
             Some(b) => b.any_hit_with(ray, stack),
-            None => any_hit_1x8(ray, &self.set),
+            None => any_hit_1x8(&self.set, ray),
         }
     }
 
@@ -398,8 +394,8 @@ impl<'a> Scene<'a> {
     #[inline]
     pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8) {
         match &self.bvh {
-            Some(b) => b.closest_hit_x8(packet, hits, PACKET_FALLBACK),
-            None => closest_hit_x8(packet, &self.set, hits),
+            Some(b) => b.closest_hit_x8(packet, hits),
+            None => closest_hit_x8(&self.set, packet, hits),
         }
     }
 
@@ -412,8 +408,8 @@ impl<'a> Scene<'a> {
         stack: &mut BvhStack,
     ) {
         match &self.bvh {
-            Some(b) => b.closest_hit_x8_with(packet, hits, PACKET_FALLBACK, stack),
-            None => closest_hit_x8(packet, &self.set, hits),
+            Some(b) => b.closest_hit_x8_with(packet, hits, stack),
+            None => closest_hit_x8(&self.set, packet, hits),
         }
     }
 

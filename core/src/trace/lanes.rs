@@ -1,5 +1,14 @@
-//! The one place that names `wide`'s API, and the lane abstraction that
-//! lets a kernel be written once for `f32` and for `f32x8`.
+//! The one module that imports `wide`, and the lane abstraction that lets
+//! a kernel be written once for `f32` and for `f32x8`.
+//!
+//! The two SIMD modules, `packet` (sphere chunks, ray and hit packets, the
+//! brute-force 8-wide kernels) and `bvh` (node boxes, slab tests, packet
+//! traversal), take `f32x8` and `i32x8` from here and use their
+//! constructors, array conversions, and arithmetic, bitwise and comparison
+//! operators directly: those are exact per lane on every SIMD level. Whatever reinterprets
+//! bits or selects by a mask is wrapped here instead, where the mask
+//! convention (all ones or all zeros per lane) is kept in one place; and
+//! `clippy.toml` bans `wide`'s fused and approximate operations everywhere.
 //!
 //! A kernel generic over [`Lanes`] performs the same IEEE operations in the
 //! same order for one lane and for eight, so the scalar reference and its
@@ -11,7 +20,7 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use wide::{f32x8, i32x8};
+pub(crate) use wide::{f32x8, i32x8};
 
 /// `f32` or `f32x8`, with a boolean or lane mask.
 pub(crate) trait Lanes:
@@ -139,4 +148,24 @@ pub(crate) fn mask_from_bools(b: [bool; 8]) -> f32x8 {
 #[inline(always)]
 pub(crate) fn mask_from_bits(bits: u8) -> f32x8 {
     mask_from_bools(core::array::from_fn(|k| bits >> k & 1 == 1))
+}
+
+/// A float mask from an integer-lane mask (the same bits).
+#[inline(always)]
+pub(crate) fn mask_from_i32(mask: i32x8) -> f32x8 {
+    wide::bytemuck::cast(mask)
+}
+
+/// The lanes whose sign bit is set (`-0.0` and negative NaNs included).
+#[inline(always)]
+pub(crate) fn mask_sign(v: f32x8) -> f32x8 {
+    let bits: i32x8 = wide::bytemuck::cast(v);
+    mask_from_i32(bits.simd_lt(i32x8::splat(0)))
+}
+
+/// `|v|` per lane by clearing the sign bit: exact on every level.
+#[inline(always)]
+pub(crate) fn lanes_abs(v: f32x8) -> f32x8 {
+    let bits: i32x8 = wide::bytemuck::cast(v);
+    wide::bytemuck::cast(bits & i32x8::splat(i32::MAX))
 }

@@ -11,10 +11,10 @@
 //! - No kernel panics and none allocates.
 
 use glam::Vec3;
-use wide::{f32x8, i32x8};
 
 use super::lanes::{
-    Lanes, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits, mask_from_bools,
+    Lanes, f32x8, i32x8, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits,
+    mask_from_bools,
 };
 use super::{Hit, Ray, Sphere, sphere_t};
 
@@ -141,7 +141,7 @@ impl core::error::Error for SphereSetError {}
 /// let mut storage = [SphereChunk8::EMPTY; 1];
 /// assert_eq!(chunks_for(spheres.len()), storage.len());
 /// let set = SphereSet::build(&spheres, &mut storage).unwrap();
-/// let hit = closest_hit_1x8(&Ray::new(Vec3::ZERO, -Vec3::Z), &set).unwrap();
+/// let hit = closest_hit_1x8(&set, &Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
 /// assert_eq!((hit.sphere, hit.t), (0, 2.0)); // ties go to the lowest index
 /// ```
 #[derive(Clone, Copy, Debug)]
@@ -270,7 +270,7 @@ impl<'a> SphereSet<'a> {
 /// for bit (ties to the lowest index).
 #[inline]
 #[must_use]
-pub fn closest_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> Option<Hit> {
+pub fn closest_hit_1x8(set: &SphereSet<'_>, ray: &Ray) -> Option<Hit> {
     let o = ray.origin;
     let d = ray.dir;
     let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
@@ -314,7 +314,7 @@ pub fn closest_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> Option<Hit> {
 /// [`super::any_hit`].
 #[inline]
 #[must_use]
-pub fn any_hit_1x8(ray: &Ray, set: &SphereSet<'_>) -> bool {
+pub fn any_hit_1x8(set: &SphereSet<'_>, ray: &Ray) -> bool {
     let o = ray.origin;
     let d = ray.dir;
     let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
@@ -551,12 +551,12 @@ impl HitPacket8 {
 /// let set = SphereSet::build(&spheres, &mut storage).unwrap();
 /// let rays = [Ray::new(Vec3::ZERO, -Vec3::Z), Ray::new(Vec3::ZERO, Vec3::Z)];
 /// let mut hits = HitPacket8::NONE;
-/// closest_hit_x8(&RayPacket8::from_rays(&rays), &set, &mut hits);
-/// assert_eq!(hits.hit(0), closest_hit(&rays[0], &spheres));
+/// closest_hit_x8(&set, &RayPacket8::from_rays(&rays), &mut hits);
+/// assert_eq!(hits.hit(0), closest_hit(&spheres, &rays[0]));
 /// assert_eq!(hits.hit(1), None);
 /// ```
 #[inline]
-pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPacket8) {
+pub fn closest_hit_x8(set: &SphereSet<'_>, packet: &RayPacket8, hits: &mut HitPacket8) {
     let p = packet;
     if lanes_bitmask(p.active) == 0 {
         return;
@@ -587,11 +587,11 @@ pub fn closest_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>, hits: &mut HitPa
 /// let set = SphereSet::build(&spheres, &mut storage).unwrap();
 /// let up = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 5.0);
 /// let side = Ray::new(Vec3::ZERO, Vec3::X).with_range(1e-4, 5.0);
-/// assert_eq!(any_hit_x8(&RayPacket8::from_rays(&[up, side]), &set), 0b01);
+/// assert_eq!(any_hit_x8(&set, &RayPacket8::from_rays(&[up, side])), 0b01);
 /// ```
 #[inline]
 #[must_use]
-pub fn any_hit_x8(packet: &RayPacket8, set: &SphereSet<'_>) -> u32 {
+pub fn any_hit_x8(set: &SphereSet<'_>, packet: &RayPacket8) -> u32 {
     let p = packet;
     let active = lanes_bitmask(p.active);
     if active == 0 {
@@ -655,7 +655,7 @@ mod tests {
         let empty = SphereSet::build(&[], &mut []).unwrap();
         assert!(empty.is_empty());
         assert_eq!(
-            super::closest_hit_1x8(&Ray::new(Vec3::ZERO, Vec3::X), &empty),
+            super::closest_hit_1x8(&empty, &Ray::new(Vec3::ZERO, Vec3::X)),
             None
         );
     }

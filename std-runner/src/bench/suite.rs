@@ -184,12 +184,12 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
             vec![
                 contender("scalar", n, || {
                     rays.iter()
-                        .filter(|r| closest_hit(r, spheres).is_some())
+                        .filter(|r| closest_hit(spheres, r).is_some())
                         .count() as u64
                 }),
                 contender("1x8", n, || {
                     rays.iter()
-                        .filter(|r| closest_hit_1x8(r, &set).is_some())
+                        .filter(|r| closest_hit_1x8(&set, r).is_some())
                         .count() as u64
                 }),
                 contender("packet", n, || {
@@ -197,7 +197,7 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
                         .iter()
                         .map(|p| {
                             let mut h = HitPacket8::NONE;
-                            closest_hit_x8(p, &set, &mut h);
+                            closest_hit_x8(&set, p, &mut h);
                             h.hit_bits().count_ones() as u64
                         })
                         .sum()
@@ -216,15 +216,15 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
             "rays",
             vec![
                 contender("scalar", m, || {
-                    sh.iter().filter(|r| any_hit(r, spheres)).count() as u64
+                    sh.iter().filter(|r| any_hit(spheres, r)).count() as u64
                 }),
                 contender("1x8", m, || {
-                    sh.iter().filter(|r| any_hit_1x8(r, &set)).count() as u64
+                    sh.iter().filter(|r| any_hit_1x8(&set, r)).count() as u64
                 }),
                 contender("packet", m, || {
                     shadow_packets
                         .iter()
-                        .map(|p| any_hit_x8(p, &set).count_ones() as u64)
+                        .map(|p| any_hit_x8(&set, p).count_ones() as u64)
                         .sum()
                 }),
             ],
@@ -281,6 +281,10 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
         })];
         let packets: Vec<RayPacket8> = rays.chunks(8).map(RayPacket8::from_rays).collect();
         let (set, tree, packets) = (&set, &tree, &packets);
+        // Packets traversed as packets throughout, and handing subtrees
+        // that at most 2 of their rays reach to the single-ray traversal.
+        let (no_fallback, fallback_2) =
+            (&tree.with_packet_fallback(0), &tree.with_packet_fallback(2));
         let n = rays.len() as f64;
         let closest = |r: Option<Hit>| r.map_or(0, |h| h.sphere as u64);
         s.compare(
@@ -289,7 +293,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
             "rays",
             vec![
                 contender("brute 1x8", brute.len() as f64, || {
-                    brute.iter().map(|r| closest(closest_hit_1x8(r, set))).sum()
+                    brute.iter().map(|r| closest(closest_hit_1x8(set, r))).sum()
                 }),
                 // One traversal stack per call, as the renderer keeps one
                 // per tile.
@@ -303,7 +307,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     let mut stack = BvhStack::new();
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
-                        tree.closest_hit_x8_with(p, &mut h, 0, &mut stack);
+                        no_fallback.closest_hit_x8_with(p, &mut h, &mut stack);
                         a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
@@ -311,7 +315,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     let mut stack = BvhStack::new();
                     packets.iter().fold(0u64, |a, p| {
                         let mut h = HitPacket8::NONE;
-                        tree.closest_hit_x8_with(p, &mut h, 2, &mut stack);
+                        fallback_2.closest_hit_x8_with(p, &mut h, &mut stack);
                         a.wrapping_add(h.spheres()[0] as u64)
                     })
                 }),
@@ -324,7 +328,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
             "rays",
             vec![
                 contender("brute 1x8", brute.len() as f64, || {
-                    brute.iter().filter(|r| any_hit_1x8(r, set)).count() as u64
+                    brute.iter().filter(|r| any_hit_1x8(set, r)).count() as u64
                 }),
                 contender("bvh", n, || {
                     let mut stack = BvhStack::new();

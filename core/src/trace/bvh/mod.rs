@@ -1,0 +1,344 @@
+//! The BVH8 over spheres: the [`Bvh`] type, its limits and storage
+//! sizing. Its contract (storage, why hits are exact, the build) is
+//! documented on [`Bvh`] and [`Bvh::build`], where the public API shows it.
+//! The build is in `build`, the queries and their [`BvhStack`] in
+//! `traverse`.
+
+mod build;
+mod traverse;
+
+pub use traverse::BvhStack;
+
+use super::Sphere;
+use super::lanes::f32x8;
+
+/// Most spheres in a leaf.
+pub(crate) const BVH_LEAF_MAX: usize = 8;
+
+/// Most spheres a [`Bvh`] holds: leaf references keep 27 bits of lane
+/// position.
+pub const BVH_MAX_SPHERES: usize = 1 << 27;
+
+/// Depth (in node levels) above which splits are binned SAH; below, median
+/// splits.
+pub(crate) const BVH_SAH_DEPTH: u32 = 16;
+
+/// The deepest a tree can be, in node levels: `BVH_SAH_DEPTH` (16) SAH levels
+/// and at most ten median levels (each divides the spheres by 8, and
+/// `8¹⁰ · 8 ≥ 2²⁷`).
+pub const BVH_MAX_DEPTH: u32 = BVH_SAH_DEPTH + 10;
+
+/// The slack factor `K` of the conservative boxes, in units of `ε = 2⁻²⁴`
+/// (see "Why the results are exact" on [`Bvh`]). Public so that tests can
+/// check the kernel's rounding against the very bound the boxes use.
+pub const BVH_SLACK_ULPS: f32 = 128.0;
+
+/// The largest centre coordinate or radius a [`Bvh`] accepts: `2⁶⁰`,
+/// where squares and sums of squares still fit an `f32`.
+pub const BVH_MAX_COORDINATE: f32 = 1.152_921_5e18;
+
+/// Child references: bit 31 marks a leaf, whose lane start is in bits
+/// 3–29 and count − 1 in bits 0–2; otherwise the node index.
+const LEAF_BIT: u32 = 1 << 31;
+
+/// [`BVH_SLACK_ULPS`] · ε.
+const SLACK: f32 = BVH_SLACK_ULPS / 16_777_216.0;
+
+/// Packet rays that continue alone in a subtree when no more than this
+/// many of the 8 reach it, unless [`Bvh::with_packet_fallback`] says
+/// otherwise (measured best for camera packets).
+const PACKET_FALLBACK: u32 = 2;
+
+/// One node: the boxes of up to eight children as SoA vectors, and the
+/// children. Lanes at `count` and beyond are unused.
+#[derive(Clone, Copy, Debug)]
+pub struct BvhNode8 {
+    min_x: f32x8,
+    min_y: f32x8,
+    min_z: f32x8,
+    max_x: f32x8,
+    max_y: f32x8,
+    max_z: f32x8,
+    child: [u32; 8],
+    count: u32,
+}
+
+impl BvhNode8 {
+    /// A node with no children (what storage holds before a build).
+    pub const EMPTY: BvhNode8 = BvhNode8 {
+        min_x: f32x8::ZERO,
+        min_y: f32x8::ZERO,
+        min_z: f32x8::ZERO,
+        max_x: f32x8::ZERO,
+        max_y: f32x8::ZERO,
+        max_z: f32x8::ZERO,
+        child: [0; 8],
+        count: 0,
+    };
+}
+
+/// The slice lengths a [`Bvh`] of `n` spheres needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BvhStorage {
+    /// [`BvhNode8`]s.
+    pub nodes: usize,
+    /// `f32`s of sphere lanes (four arrays of `n + 7`).
+    pub lanes: usize,
+    /// `u32` sphere indices, one per lane (`n + 7`).
+    pub ids: usize,
+}
+
+/// The storage a [`Bvh`] of `n` spheres needs. The node count is a proven
+/// bound: every node but a root with fewer than nine spheres has at least
+/// two children; one with fewer than eight children has only leaves and
+/// more than eight spheres, so at most `n / 9` such nodes exist; counting
+/// child slots then gives at most `(5n − 3) / 21` nodes.
+///
+/// ```
+/// use strata::trace::bvh_storage_for;
+/// let s = bvh_storage_for(1000);
+/// assert_eq!((s.nodes, s.lanes, s.ids), (237, 4 * 1007, 1007));
+/// assert_eq!(bvh_storage_for(0).nodes, 1);
+/// ```
+#[must_use]
+#[inline]
+pub const fn bvh_storage_for(n: usize) -> BvhStorage {
+    // Saturating: sizes past BVH_MAX_SPHERES are refused by the build
+    // anyway, and must not overflow here.
+    let nodes = if n <= 8 {
+        1
+    } else {
+        n.saturating_mul(5).saturating_sub(3) / 21
+    };
+    BvhStorage {
+        nodes,
+        lanes: n.saturating_add(7).saturating_mul(4),
+        ids: n.saturating_add(7),
+    }
+}
+
+/// Why a [`Bvh`] could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BvhError {
+    /// A storage slice is shorter than [`bvh_storage_for`] requires.
+    StorageTooSmall {
+        /// Which slice: `"nodes"`, `"lanes"` or `"ids"`.
+        slice: &'static str,
+        /// Length required.
+        needed: usize,
+        /// Length provided.
+        provided: usize,
+    },
+    /// More than [`BVH_MAX_SPHERES`] spheres.
+    TooManySpheres,
+    /// A sphere has an infinite centre or radius, or one beyond
+    /// [`BVH_MAX_COORDINATE`].
+    SphereOutOfRange {
+        /// Its index.
+        index: usize,
+    },
+}
+
+impl core::fmt::Display for BvhError {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            BvhError::StorageTooSmall {
+                slice,
+                needed,
+                provided,
+            } => write!(
+                f,
+                "BVH storage too small: `{slice}` needs {needed} entries, {provided} given"
+            ),
+            BvhError::TooManySpheres => {
+                write!(f, "a BVH holds at most {BVH_MAX_SPHERES} spheres")
+            }
+            BvhError::SphereOutOfRange { index } => write!(
+                f,
+                "sphere {index} is infinite or beyond ±{BVH_MAX_COORDINATE:e} (BVH limit)"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for BvhError {}
+
+/// A BVH8 over spheres in caller storage: one box test covers the eight
+/// children of a node with `f32x8`, leaves are runs of up to eight spheres
+/// tested with the same 8-wide kernel as the brute-force path. It only
+/// skips work: every query returns the bits of the brute-force query it
+/// replaces ([`closest_hit`](super::closest_hit), [`any_hit`](super::any_hit)
+/// and their 8-wide twins over the same spheres).
+///
+/// # Storage
+///
+/// Everything lives in caller slices whose lengths [`bvh_storage_for`]
+/// gives for `n` spheres: nodes, the spheres as four SoA lanes arrays
+/// (reordered so each leaf is a contiguous run), and the original index of
+/// each lane. [`Bvh::build`] checks the lengths before writing anything.
+///
+/// # Why the results are exact
+///
+/// The kernel's `t` for one sphere does not depend on the other spheres:
+/// it is the first root above `t_min` when that is below `t_max`. So the
+/// closest hit is the least such `t`, ties to the lowest index — the
+/// brute-force loop's answer — whatever order the spheres are visited in,
+/// provided no box test drops a sphere the kernel would report. Boxes are
+/// made conservative against the kernel's rounding:
+///
+/// - The kernel's hit point `o + t d` (with its rounded `t`) lies within
+///   `r + K ε (|o|₁ + |c|₁ + r)` of the centre `c` (`K` =
+///   [`BVH_SLACK_ULPS`], `ε = 2⁻²⁴`; `tests/tracing/bvh.rs` checks a margin
+///   of 4 on grazing, tangent, distant and inside rays). The sphere's box
+///   gets the `|c|₁ + r` part of that slack at build time, the ray adds the
+///   `|o|₁` part at traversal (by moving the slab planes, at no cost per
+///   node). The slack also covers the slab test's own rounding.
+/// - A child is kept when its entry `t` is `≤` the current closest `t`
+///   (not `<`), so a sphere at the same `t` with a lower index is still
+///   found.
+/// - Zero direction components are replaced by `±10⁻³⁰`, so a slab test
+///   never computes `0 × ∞`.
+///
+/// This holds for unit directions, as the kernels require. Spheres whose
+/// centre or radius is infinite, or whose coordinates reach
+/// [`BVH_MAX_COORDINATE`] (where the kernel's squares overflow), are
+/// refused at build time: use the brute-force path for them.
+///
+/// # Queries
+///
+/// The shape of every query in [`trace`](crate::trace): the tree, then the
+/// ray or packet, then (packet closest hits) the hits to update, then
+/// (`_with`) the caller's [`BvhStack`].
+///
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::*;
+/// let spheres: Vec<Sphere> = (0..100)
+///     .map(|i| Sphere::new(Vec3::new(i as f32, 0.0, -5.0), 0.4))
+///     .collect();
+/// let size = bvh_storage_for(spheres.len());
+/// let mut nodes = vec![BvhNode8::EMPTY; size.nodes];
+/// let mut lanes = vec![0.0; size.lanes];
+/// let mut ids = vec![0; size.ids];
+/// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+/// let ray = Ray::new(Vec3::new(42.0, 0.0, 0.0), -Vec3::Z);
+/// assert_eq!(bvh.closest_hit(&ray), closest_hit(&spheres, &ray));
+/// assert_eq!(bvh.closest_hit(&ray).unwrap().sphere, 42);
+/// assert!(bvh.any_hit(&ray));
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Bvh<'a> {
+    nodes: &'a [BvhNode8],
+    cx: &'a [f32],
+    cy: &'a [f32],
+    cz: &'a [f32],
+    r: &'a [f32],
+    ids: &'a [u32],
+    len: usize,
+    used_nodes: usize,
+    depth: u32,
+    /// See [`Bvh::with_packet_fallback`].
+    packet_fallback: u32,
+}
+
+/// Whether the kernel can ever hit `s`.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+fn hittable(s: &Sphere) -> bool {
+    s.radius > 0.0 && !s.center.is_nan()
+}
+
+impl Bvh<'_> {
+    /// Whether this tree was built from exactly `spheres`: the same count,
+    /// and every hittable sphere in its lanes with the same bits, once.
+    #[inline]
+    #[must_use]
+    pub fn built_from(&self, spheres: &[Sphere]) -> bool {
+        if spheres.len() != self.len {
+            return false;
+        }
+        let hittable = spheres.iter().filter(|s| hittable(s)).count();
+        let mut k = 0;
+        while k < self.ids.len() && self.ids[k] != u32::MAX {
+            let Some(s) = spheres.get(self.ids[k] as usize) else {
+                return false;
+            };
+            let lane = [self.cx[k], self.cy[k], self.cz[k], self.r[k]].map(f32::to_bits);
+            let want = [s.center.x, s.center.y, s.center.z, s.radius].map(f32::to_bits);
+            if lane != want {
+                return false;
+            }
+            k += 1;
+        }
+        // Ids are distinct by construction, so a full count is a match.
+        k == hittable
+    }
+
+    /// The number of spheres it was built over (hittable or not).
+    #[must_use]
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether it was built over no spheres.
+    #[must_use]
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Nodes in use (at most [`bvh_storage_for`]`(len).nodes`).
+    #[must_use]
+    #[inline]
+    pub fn node_count(&self) -> usize {
+        self.used_nodes
+    }
+
+    /// Node levels (at most [`BVH_MAX_DEPTH`]).
+    #[must_use]
+    #[inline]
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+}
+
+impl Bvh<'_> {
+    /// The same tree with another packet fallback: where no more than
+    /// `rays` of a packet's rays reach a subtree, [`Bvh::closest_hit_x8`]
+    /// traces each of them alone through it (a box test for 8 rays costs
+    /// about as much as one for a single ray, so a packet with few rays
+    /// left wastes most of its lanes). 0 never falls back, 8 or more
+    /// traces every ray alone; the default, 2, measured fastest for camera
+    /// packets. It changes speed only, never a hit.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::*;
+    /// let spheres: Vec<Sphere> = (0..64)
+    ///     .map(|i| Sphere::new(Vec3::new(i as f32, 0.0, -5.0), 0.4))
+    ///     .collect();
+    /// let size = bvh_storage_for(spheres.len());
+    /// let (mut nodes, mut lanes, mut ids) =
+    ///     (vec![BvhNode8::EMPTY; size.nodes], vec![0.0; size.lanes], vec![0; size.ids]);
+    /// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+    /// let rays: Vec<Ray> = (0..8)
+    ///     .map(|k| Ray::new(Vec3::new(8.0 * k as f32, 0.0, 0.0), -Vec3::Z))
+    ///     .collect();
+    /// let packet = RayPacket8::from_rays(&rays);
+    /// let (mut as_packet, mut alone) = (HitPacket8::NONE, HitPacket8::NONE);
+    /// bvh.with_packet_fallback(0).closest_hit_x8(&packet, &mut as_packet);
+    /// bvh.with_packet_fallback(8).closest_hit_x8(&packet, &mut alone);
+    /// assert_eq!(as_packet.spheres(), alone.spheres());
+    /// assert_eq!(as_packet.spheres()[3], 24);
+    /// ```
+    #[must_use]
+    #[inline]
+    pub fn with_packet_fallback(self, rays: u32) -> Self {
+        Self {
+            packet_fallback: rays,
+            ..self
+        }
+    }
+}

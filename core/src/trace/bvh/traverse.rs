@@ -1,0 +1,500 @@
+//! The queries: closest and any hit for one ray (a stack of children
+//! sorted by entry distance) and for packets of eight (one box test per
+//! child for the rays that reach it, handing subtrees that few rays reach
+//! to the single-ray traversal), and the [`BvhStack`] they run on.
+
+use super::{BVH_MAX_DEPTH, Bvh, BvhNode8, LEAF_BIT, SLACK};
+use crate::trace::lanes::{
+    f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits,
+    mask_from_i32, mask_sign,
+};
+use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t};
+
+/// Traversal stack entries: every visited node pushes at most 8 and pops
+/// one, so `7 ·` [`BVH_MAX_DEPTH`] `+ 1` suffice.
+const STACK: usize = 7 * BVH_MAX_DEPTH as usize + 1;
+
+/// Reusable traversal memory for [`Bvh`] queries: keep one per thread (or
+/// per tile) and pass it to the `_with` queries. It is zeroed once, when
+/// made; queries only read entries they wrote, so it is never cleared
+/// again (the queries without `_with` clear a fresh stack of their own,
+/// 0.7–3.6 KB, on every call).
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::trace::{Bvh, BvhNode8, BvhStack, Ray, Sphere, bvh_storage_for};
+/// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
+/// let size = bvh_storage_for(1);
+/// let (mut nodes, mut lanes, mut ids) =
+///     (vec![BvhNode8::EMPTY; size.nodes], vec![0.0; size.lanes], vec![0; size.ids]);
+/// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+/// let mut stack = BvhStack::new();
+/// let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+/// assert_eq!(bvh.closest_hit_with(&ray, &mut stack).map(|h| h.t), Some(2.0));
+/// assert!(bvh.any_hit_with(&ray, &mut stack));
+/// ```
+#[derive(Clone, Debug)]
+pub struct BvhStack {
+    /// Closest-hit traversal of one ray: (child, entry distance).
+    closest: [(u32, f32); STACK],
+    /// Any-hit traversal of one ray.
+    any: [u32; STACK],
+    /// Packet traversal: (child, lanes that enter it).
+    packet: [(u32, u8); STACK],
+}
+
+impl BvhStack {
+    /// A stack for every query of any [`Bvh`] (its size covers
+    /// [`BVH_MAX_DEPTH`]).
+    #[inline]
+    #[must_use]
+    pub const fn new() -> Self {
+        Self {
+            closest: [(0, 0.0); STACK],
+            any: [0; STACK],
+            packet: [(0, 0); STACK],
+        }
+    }
+}
+
+impl Default for BvhStack {
+    #[inline]
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// A ray prepared for slab tests against 8 boxes: slab planes moved by the
+/// ray's slack, reciprocal directions without zeros.
+struct SlabRay {
+    lo: [f32x8; 3],
+    hi: [f32x8; 3],
+    inv: [f32x8; 3],
+}
+
+impl SlabRay {
+    fn new(ray: &Ray) -> Self {
+        let o = ray.origin;
+        let s = (o.x.abs() + o.y.abs() + o.z.abs()) * SLACK;
+        let inv = |d: f32| {
+            // ±1e-30 for a zero component keeps 0 × ∞ out of the slabs.
+            let d = if d == 0.0 { 1e-30f32.copysign(d) } else { d };
+            f32x8::splat(1.0 / d)
+        };
+        Self {
+            // Box min planes move by −s, max planes by +s: subtracting
+            // o + s and o − s does both.
+            lo: [
+                f32x8::splat(o.x + s),
+                f32x8::splat(o.y + s),
+                f32x8::splat(o.z + s),
+            ],
+            hi: [
+                f32x8::splat(o.x - s),
+                f32x8::splat(o.y - s),
+                f32x8::splat(o.z - s),
+            ],
+            inv: [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)],
+        }
+    }
+
+    /// Entry `t` of each child box (kept where the bit is set): the slab
+    /// interval clipped to `[t_min, t_far]` is non-empty.
+    #[inline(always)]
+    fn test(&self, n: &BvhNode8, t_min: f32, t_far: f32) -> (u32, f32x8) {
+        let (tn, tf) = slabs(
+            [n.min_x, n.min_y, n.min_z],
+            [n.max_x, n.max_y, n.max_z],
+            self.lo,
+            self.hi,
+            self.inv,
+            f32x8::splat(t_min),
+            f32x8::splat(t_far),
+        );
+        let used = (1u32 << n.count) - 1;
+        (lanes_bitmask(tn.simd_le(tf)) & used, tn)
+    }
+}
+
+/// Per-lane slab test: entry and exit `t`, clipped to `[t_min, t_far]`.
+/// Min and max by compare and select, the same on every SIMD level.
+#[inline(always)]
+fn slabs(
+    bmin: [f32x8; 3],
+    bmax: [f32x8; 3],
+    lo: [f32x8; 3],
+    hi: [f32x8; 3],
+    inv: [f32x8; 3],
+    t_min: f32x8,
+    t_far: f32x8,
+) -> (f32x8, f32x8) {
+    let mut tn = t_min;
+    let mut tf = t_far;
+    for k in 0..3 {
+        let t0 = (bmin[k] - lo[k]) * inv[k];
+        let t1 = (bmax[k] - hi[k]) * inv[k];
+        let first = t0.simd_lt(t1);
+        let near = lanes_select(first, t0, t1);
+        let far = lanes_select(first, t1, t0);
+        tn = lanes_select(near.simd_gt(tn), near, tn);
+        tf = lanes_select(far.simd_lt(tf), far, tf);
+    }
+    (tn, tf)
+}
+
+const LANE_INDEX: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+
+impl Bvh<'_> {
+    /// The 8-wide kernel on the leaf lanes from `start` (count of them
+    /// valid): `t` per lane, `+∞` for a miss or an unused lane.
+    #[inline(always)]
+    fn leaf_t(&self, start: usize, count: usize, ray: &Ray) -> f32x8 {
+        let load = |v: &[f32]| {
+            let mut a = [0.0f32; 8];
+            a.copy_from_slice(&v[start..start + 8]);
+            f32x8::new(a)
+        };
+        let t = sphere_t(
+            f32x8::splat(ray.origin.x),
+            f32x8::splat(ray.origin.y),
+            f32x8::splat(ray.origin.z),
+            f32x8::splat(ray.dir.x),
+            f32x8::splat(ray.dir.y),
+            f32x8::splat(ray.dir.z),
+            load(self.cx),
+            load(self.cy),
+            load(self.cz),
+            load(self.r),
+            f32x8::splat(ray.t_min),
+            f32x8::splat(ray.t_max),
+        );
+        let used = f32x8::new(LANE_INDEX).simd_lt(f32x8::splat(count as f32));
+        lanes_select(used, t, f32x8::splat(f32::INFINITY))
+    }
+
+    /// The closest hit of `ray`: bit for bit
+    /// [`closest_hit`](crate::trace::closest_hit) over the spheres it was
+    /// built from.
+    #[must_use]
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.closest_from(0, ray, &mut best, &mut [(0, 0.0); STACK]);
+        best
+    }
+
+    /// [`Bvh::closest_hit`] on the caller's reusable `stack`.
+    #[must_use]
+    #[inline]
+    pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.closest_from(0, ray, &mut best, &mut stack.closest);
+        best
+    }
+
+    /// Closest-hit traversal of the subtree at `root` (a node index or a
+    /// leaf reference), improving `best`.
+    fn closest_from(
+        &self,
+        root: u32,
+        ray: &Ray,
+        best: &mut Option<Hit>,
+        stack: &mut [(u32, f32); STACK],
+    ) {
+        let slab = SlabRay::new(ray);
+        stack[0] = (root, f32::NEG_INFINITY);
+        let mut sp = 1;
+        // The closest t so far (t_max before any hit): children entered
+        // beyond it are skipped, entered at it are kept.
+        let mut far = best.map_or(ray.t_max, |h| h.t);
+        while sp > 0 {
+            sp -= 1;
+            let (entry, t_enter) = stack[sp];
+            if t_enter > far {
+                continue;
+            }
+            if entry & LEAF_BIT != 0 {
+                let start = ((entry & !LEAF_BIT) >> 3) as usize;
+                let count = (entry & 7) as usize + 1;
+                let ts = self.leaf_t(start, count, ray).to_array();
+                for (lane, &t) in ts.iter().enumerate().take(count) {
+                    if t < f32::INFINITY {
+                        let id = self.ids[start + lane];
+                        let take = match best {
+                            Some(b) => t < b.t || (t == b.t && id < b.sphere),
+                            None => true,
+                        };
+                        if take {
+                            *best = Some(Hit { t, sphere: id });
+                            far = t;
+                        }
+                    }
+                }
+                continue;
+            }
+            let node = &self.nodes[entry as usize];
+            let (mut bits, tn) = slab.test(node, ray.t_min, far);
+            if bits == 0 {
+                continue;
+            }
+            let tn = tn.to_array();
+            // Push far to near, so the nearest child is popped first.
+            let mut order = [(0.0f32, 0u32); 8];
+            let mut k = 0;
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                insert_far_to_near(&mut order, k, (tn[lane], node.child[lane]));
+                k += 1;
+            }
+            for &(t, child) in &order[..k] {
+                stack[sp] = (child, t);
+                sp += 1;
+            }
+        }
+    }
+
+    /// Whether `ray` hits any sphere: [`any_hit`](crate::trace::any_hit)
+    /// over the spheres it was built from.
+    #[must_use]
+    #[inline]
+    pub fn any_hit(&self, ray: &Ray) -> bool {
+        self.any_from(ray, &mut [0; STACK])
+    }
+
+    /// [`Bvh::any_hit`] on the caller's reusable `stack`.
+    #[must_use]
+    #[inline]
+    pub fn any_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> bool {
+        self.any_from(ray, &mut stack.any)
+    }
+
+    fn any_from(&self, ray: &Ray, stack: &mut [u32; STACK]) -> bool {
+        let slab = SlabRay::new(ray);
+        stack[0] = 0;
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let entry = stack[sp];
+            if entry & LEAF_BIT != 0 {
+                let start = ((entry & !LEAF_BIT) >> 3) as usize;
+                let count = (entry & 7) as usize + 1;
+                let t = self.leaf_t(start, count, ray);
+                if lanes_bitmask(t.simd_lt(f32x8::splat(f32::INFINITY))) != 0 {
+                    return true;
+                }
+                continue;
+            }
+            let node = &self.nodes[entry as usize];
+            let (mut bits, _) = slab.test(node, ray.t_min, ray.t_max);
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                stack[sp] = node.child[lane];
+                sp += 1;
+            }
+        }
+        false
+    }
+
+    /// The closest hits of a packet, traversed as a packet: one box test
+    /// per child covers the 8 rays, one kernel call per leaf sphere; where
+    /// few rays reach a subtree they continue alone
+    /// ([`Bvh::with_packet_fallback`]). Same contract as
+    /// [`closest_hit_x8`](crate::trace::closest_hit_x8), lane by lane the
+    /// same bits: `hits` is read and updated, inactive lanes are not
+    /// written.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::*;
+    /// let spheres: Vec<Sphere> = (0..40)
+    ///     .map(|i| Sphere::new(Vec3::new(i as f32, 0.0, -5.0), 0.4))
+    ///     .collect();
+    /// let size = bvh_storage_for(spheres.len());
+    /// let (mut nodes, mut lanes, mut ids) =
+    ///     (vec![BvhNode8::EMPTY; size.nodes], vec![0.0; size.lanes], vec![0; size.ids]);
+    /// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+    /// let rays = [
+    ///     Ray::new(Vec3::new(7.0, 0.0, 0.0), -Vec3::Z),
+    ///     Ray::new(Vec3::ZERO, Vec3::Z),
+    /// ];
+    /// let mut hits = HitPacket8::NONE;
+    /// bvh.closest_hit_x8(&RayPacket8::from_rays(&rays), &mut hits);
+    /// assert_eq!(hits.hit(0), closest_hit(&spheres, &rays[0]));
+    /// assert_eq!(hits.hit(0).map(|h| h.sphere), Some(7));
+    /// assert_eq!(hits.hit(1), None);
+    /// ```
+    #[inline]
+    pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8) {
+        self.closest_hit_x8_with(packet, hits, &mut BvhStack::new());
+    }
+
+    /// [`Bvh::closest_hit_x8`] on the caller's reusable `stack`.
+    #[inline]
+    pub fn closest_hit_x8_with(
+        &self,
+        packet: &RayPacket8,
+        hits: &mut HitPacket8,
+        stack: &mut BvhStack,
+    ) {
+        let fallback = self.packet_fallback;
+        let BvhStack {
+            closest: single,
+            packet: stack,
+            ..
+        } = stack;
+        let active = packet.active_bits();
+        if active == 0 {
+            return;
+        }
+        // Own best per lane, from no hit; merged into `hits` at the end
+        // by the strict rule of `closest_hit_x8`.
+        let mut bt = f32x8::splat(f32::INFINITY);
+        let mut bi = i32x8::splat(-1);
+        let rays: [Ray; 8] = core::array::from_fn(|k| packet.ray(k));
+        let inf = f32x8::splat(f32::INFINITY);
+        let lo = [packet.ox, packet.oy, packet.oz];
+        let s = (lanes_abs(packet.ox) + lanes_abs(packet.oy) + lanes_abs(packet.oz))
+            * f32x8::splat(SLACK);
+        let slab_lo = [lo[0] + s, lo[1] + s, lo[2] + s];
+        let slab_hi = [lo[0] - s, lo[1] - s, lo[2] - s];
+        let inv = [inv8(packet.dx), inv8(packet.dy), inv8(packet.dz)];
+        stack[0] = (0, active as u8);
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let (entry, mask) = stack[sp];
+            // Lanes skip a subtree only by their own box tests, done when
+            // it was pushed; `far` below re-checks against newer hits.
+            if mask.count_ones() <= fallback {
+                let (mut ts, mut is) = (bt.to_array(), bi.to_array());
+                let mut m = mask;
+                while m != 0 {
+                    let lane = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let mut best = (is[lane] >= 0).then_some(Hit {
+                        t: ts[lane],
+                        sphere: is[lane] as u32,
+                    });
+                    self.closest_from(entry, &rays[lane], &mut best, single);
+                    if let Some(h) = best {
+                        (ts[lane], is[lane]) = (h.t, h.sphere as i32);
+                    }
+                }
+                bt = f32x8::new(ts);
+                bi = i32x8::new(is);
+                continue;
+            }
+            let lane_on = mask_from_bits(mask);
+            if entry & LEAF_BIT != 0 {
+                let start = ((entry & !LEAF_BIT) >> 3) as usize;
+                let count = (entry & 7) as usize + 1;
+                for k in start..start + count {
+                    let t = sphere_t(
+                        packet.ox,
+                        packet.oy,
+                        packet.oz,
+                        packet.dx,
+                        packet.dy,
+                        packet.dz,
+                        f32x8::splat(self.cx[k]),
+                        f32x8::splat(self.cy[k]),
+                        f32x8::splat(self.cz[k]),
+                        f32x8::splat(self.r[k]),
+                        packet.t_min,
+                        packet.t_max,
+                    );
+                    let id = i32x8::splat(self.ids[k] as i32);
+                    let hit = lane_on & t.simd_lt(inf);
+                    let id_lower = mask_from_i32(id.simd_lt(bi) | bi.simd_eq(i32x8::splat(-1)));
+                    let take = hit & (t.simd_lt(bt) | (t.simd_eq(bt) & id_lower));
+                    bt = lanes_select(take, t, bt);
+                    bi = lanes_select_i32(take, id, bi);
+                }
+                continue;
+            }
+            let node = &self.nodes[entry as usize];
+            // The closest so far per lane, else the ray's t_max.
+            let far = lanes_select(bt.simd_lt(inf), bt, packet.t_max);
+            let mut order = [(0.0f32, (0u32, 0u8)); 8];
+            let mut n = 0;
+            for c in 0..node.count as usize {
+                let at = |v: &f32x8| f32x8::splat(v.as_array()[c]);
+                let (tn, tf) = slabs(
+                    [at(&node.min_x), at(&node.min_y), at(&node.min_z)],
+                    [at(&node.max_x), at(&node.max_y), at(&node.max_z)],
+                    slab_lo,
+                    slab_hi,
+                    inv,
+                    packet.t_min,
+                    far,
+                );
+                let lanes = lanes_bitmask(tn.simd_le(tf) & lane_on) as u8;
+                if lanes == 0 {
+                    continue;
+                }
+                // Order by the nearest entry among the lanes that enter.
+                let tn = tn.to_array();
+                let mut key = f32::INFINITY;
+                for (l, &t) in tn.iter().enumerate() {
+                    if lanes >> l & 1 == 1 && t < key {
+                        key = t;
+                    }
+                }
+                insert_far_to_near(&mut order, n, (key, (node.child[c], lanes)));
+                n += 1;
+            }
+            for &(_, (child, lanes)) in &order[..n] {
+                stack[sp] = (child, lanes);
+                sp += 1;
+            }
+        }
+        let take = bt.simd_lt(hits.t) & mask_from_bits(active as u8);
+        hits.t = lanes_select(take, bt, hits.t);
+        hits.sphere = lanes_select_i32(take, bi, hits.sphere);
+    }
+
+    /// Which rays of a packet hit any sphere: bit `k` for active lane `k`,
+    /// as [`any_hit_x8`](crate::trace::any_hit_x8). Each ray is traced
+    /// alone, stopping at its first blocker (shadow rays of a packet rarely
+    /// share a path).
+    #[must_use]
+    #[inline]
+    pub fn any_hit_x8(&self, packet: &RayPacket8) -> u32 {
+        let mut out = 0;
+        let mut stack = [0; STACK];
+        let mut m = packet.active_bits();
+        while m != 0 {
+            let lane = m.trailing_zeros();
+            m &= m - 1;
+            if self.any_from(&packet.ray(lane as usize), &mut stack) {
+                out |= 1 << lane;
+            }
+        }
+        out
+    }
+}
+
+/// Inserts `item` into `order[..n]`, kept sorted from far to near by entry
+/// distance, so that pushing it in order pops the nearest child first.
+#[inline(always)]
+fn insert_far_to_near<T: Copy>(order: &mut [(f32, T); 8], n: usize, item: (f32, T)) {
+    let mut j = n;
+    while j > 0 && order[j - 1].0 < item.0 {
+        order[j] = order[j - 1];
+        j -= 1;
+    }
+    order[j] = item;
+}
+
+/// `1 / d` per lane, with `±10⁻³⁰` (by the sign bit) for a zero `d`, so a
+/// slab test never computes `0 × ∞`.
+fn inv8(d: f32x8) -> f32x8 {
+    let tiny = f32x8::splat(1e-30);
+    let neg_tiny = f32x8::splat(-1e-30);
+    let negative = mask_sign(d);
+    let zero = d.simd_eq(f32x8::splat(0.0));
+    let d = lanes_select(zero, lanes_select(negative, neg_tiny, tiny), d);
+    f32x8::splat(1.0) / d
+}
