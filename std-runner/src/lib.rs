@@ -11,7 +11,6 @@ pub mod hash;
 pub mod image_io;
 pub mod limits;
 pub mod render;
-pub mod scene_file;
 pub mod scenes;
 pub mod spectrum;
 pub mod study;

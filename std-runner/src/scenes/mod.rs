@@ -1,6 +1,6 @@
 //! Scenes as owned data ([`SceneData`]) and the memory the core builds
 //! them into ([`SceneBuffers`]); the built-in scenes are in `builtin.rs`,
-//! the scene hash in `hash.rs`, scene files in `crate::scene_file`.
+//! the scene hash in `hash.rs`, scene files in [`file`](mod@file).
 
 use glam::Vec3;
 use strata::render::{
@@ -9,6 +9,7 @@ use strata::render::{
 use strata::trace::{Bvh, BvhError, BvhNode8, BvhStorage, Sphere, SphereChunk8, SphereSet};
 
 mod builtin;
+pub mod file;
 mod hash;
 
 pub use builtin::{
