@@ -14,7 +14,10 @@ use crate::commands::{
     spectrum::spectrum, verify::verify,
 };
 use crate::image_io::{Transfer, say};
-use crate::limits::{MAX_DEPTH, MAX_RANGE, MAX_SPP, MAX_WIDTH};
+use crate::limits::{
+    MAX_DEPTH, MAX_MIN_TIME_MS, MAX_PANEL_WIDTH, MAX_PATTERN_PIXELS, MAX_PATTERN_SPP, MAX_RANGE,
+    MAX_REPETITIONS, MAX_SEEDS, MAX_SPP, MAX_STUDY_SPP, MAX_THREADS, MAX_TILE, MAX_WIDTH,
+};
 use crate::render::SamplerKind;
 use crate::scenes::BvhMode;
 
@@ -110,14 +113,14 @@ pub struct ConvergeArgs {
     pub with_1024: bool,
     /// Samples per pixel of the reference (Sobol'), at least 4 times the
     /// largest measured spp.
-    #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=1 << 24))]
+    #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
     pub reference_spp: u32,
     /// Seeds per point; the RMSE is the root of the mean squared error
     /// over them.
-    #[arg(long, default_value_t = 1, value_parser = value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 1, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
     pub seeds: u32,
     /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
     /// Where references are cached [default: $XDG_CACHE_HOME/strata or
     /// ~/.cache/strata].
@@ -139,10 +142,10 @@ pub struct AliasingArgs {
     pub scene: String,
     /// Width of each panel in pixels, height by the scene's aspect
     /// [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=4096))]
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_PANEL_WIDTH as i64))]
     pub width: Option<u32>,
     /// Samples per pixel of every panel.
-    #[arg(long, default_value_t = 4, value_parser = value_parser!(u32).range(1..=1 << 24))]
+    #[arg(long, default_value_t = 4, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
     pub spp: u32,
     /// Ray segments per path [default: the scene's].
     #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
@@ -157,13 +160,13 @@ pub struct AliasingArgs {
     pub samplers: Vec<SamplerKind>,
     /// Samples per pixel of a last, reference panel (Sobol'); 0 for none.
     /// Each panel's label gives its RMSE against it.
-    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(0..=1 << 24))]
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(0..=MAX_STUDY_SPP as i64))]
     pub reference_spp: u32,
     /// Seed of every panel.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
     /// Texture filtering of the sampler panels (the reference is
     /// point-sampled): none, or box (the checker averaged over each
@@ -183,10 +186,10 @@ pub struct SpectrumArgs {
     #[arg(long, value_enum, value_delimiter = ',')]
     pub sampler: Vec<SamplerKind>,
     /// Samples per pixel of the pattern.
-    #[arg(long, default_value_t = 64, value_parser = value_parser!(u32).range(1..=4096))]
+    #[arg(long, default_value_t = 64, value_parser = value_parser!(u32).range(1..=MAX_PATTERN_SPP as i64))]
     pub spp: u32,
     /// Pixels whose periodograms are averaged.
-    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=1 << 20))]
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=MAX_PATTERN_PIXELS as i64))]
     pub pixels: u32,
     /// Highest frequency on each axis, in cycles per pixel [default: 4
     /// √spp, at least 16; at most 128].
@@ -196,7 +199,7 @@ pub struct SpectrumArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads (the result does not depend on it).
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
     /// The spectrum image, a PNG (grey = power / 2: a flat spectrum is
     /// mid-grey; zero frequency at the centre).
@@ -217,10 +220,10 @@ pub struct BenchArgs {
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Timed repetitions of every figure (after one warm-up).
-    #[arg(long, default_value_t = 5, value_parser = value_parser!(u16).range(1..=100))]
+    #[arg(long, default_value_t = 5, value_parser = value_parser!(u16).range(1..=MAX_REPETITIONS as i64))]
     pub repetitions: u16,
     /// Shortest duration of one timing, in milliseconds.
-    #[arg(long, default_value_t = 100, value_parser = value_parser!(u64).range(1..=60_000))]
+    #[arg(long, default_value_t = 100, value_parser = value_parser!(u64).range(1..=MAX_MIN_TIME_MS))]
     pub min_time_ms: u64,
 }
 
@@ -262,10 +265,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
     /// Tile side in pixels (changes speed, never the image).
-    #[arg(long, default_value_t = 32, value_parser = value_parser!(u32).range(1..=4096))]
+    #[arg(long, default_value_t = 32, value_parser = value_parser!(u32).range(1..=MAX_TILE as i64))]
     pub tile: u32,
     /// PNG transfer curve: sRGB, or the course's gamma 2.
     #[arg(long, value_enum, default_value_t = Transfer::Srgb)]
@@ -431,7 +434,7 @@ pub struct MergeArgs {
 #[derive(Debug, Args)]
 pub struct VerifyArgs {
     /// Worker threads (the hashes do not depend on it).
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=512))]
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
 }
 

@@ -30,7 +30,7 @@ use crate::film::{Film, RenderKey};
 use crate::hash::Fnv;
 use crate::image_io::Transfer;
 use crate::render::{Job, SamplerKind, run};
-use crate::scenes::{BUILT_IN, SceneData, built_in};
+use crate::scenes::{BUILT_IN, SceneData, built_in, file};
 
 /// Image size of a golden render.
 pub const SIZE: (u32, u32) = (32, 18);
@@ -204,7 +204,7 @@ pub fn scene(name: &str) -> Result<SceneData> {
         .iter()
         .find(|(p, _)| *p == name)
         .ok_or_else(|| anyhow!("`{name}` is not a scene of the golden table"))?;
-    Ok(crate::scene_file::parse(std::path::Path::new(path), text)?)
+    Ok(file::parse(std::path::Path::new(path), text)?)
 }
 
 /// FNV-1a 64 of a film: each pixel's sums (low, high 32-bit halves), its

@@ -12,7 +12,6 @@ pub mod image_io;
 pub mod limits;
 pub mod plot;
 pub mod render;
-pub mod scene_file;
 pub mod scenes;
 pub mod spectrum;
 pub mod study;

@@ -1,9 +1,9 @@
-//! The sizes of what the runner holds in memory (images, samples, paths,
-//! textures, spectra), in one place: the command line, scene files, film
-//! files, textures and the studies check against these, so a request too
-//! large is refused before any work starts (and before any memory is
-//! allocated for it). Flags whose range is their own (threads, tile size,
-//! seeds) state it where they are declared.
+//! Every limit the runner checks, in one place. First the sizes of what it
+//! holds in memory (images, samples, paths, textures, spectra): the
+//! command line, scene files, film files, textures and the studies check
+//! against these, so a request too large is refused before any work
+//! starts (and before any memory is allocated for it). Then the ranges of
+//! the flags only the command line has.
 
 /// The widest (or tallest) image, in pixels; scene files may set defaults
 /// up to it too.
@@ -24,3 +24,33 @@ pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// The largest frequency range of `strata spectrum` (a 257 × 257 grid).
 pub const MAX_RANGE: u32 = 128;
+
+/// The most worker threads (`--threads` of every command).
+pub const MAX_THREADS: u16 = 512;
+
+/// The largest tile side, in pixels (`render --tile`).
+pub const MAX_TILE: u32 = 4096;
+
+/// The most samples per pixel of a study's panels and references
+/// (`converge --reference-spp`, `aliasing --spp` and `--reference-spp`):
+/// the stratified sampler's limit, 2²⁴.
+pub const MAX_STUDY_SPP: u32 = strata::sampler::MAX_STRATA_SPP;
+
+/// The most seeds a `converge` point averages over (`--seeds`).
+pub const MAX_SEEDS: u32 = 64;
+
+/// The widest `aliasing` panel, in pixels (`--width`).
+pub const MAX_PANEL_WIDTH: u32 = 4096;
+
+/// The most samples per pixel of a `spectrum` pattern (`--spp`).
+pub const MAX_PATTERN_SPP: u32 = 4096;
+
+/// The most pixels whose periodograms `spectrum` averages (`--pixels`).
+pub const MAX_PATTERN_PIXELS: u32 = 1 << 20;
+
+/// The most timed repetitions of each `bench` figure (`--repetitions`).
+pub const MAX_REPETITIONS: u16 = 100;
+
+/// The longest minimum duration of one `bench` timing, in milliseconds
+/// (`--min-time-ms`): a minute.
+pub const MAX_MIN_TIME_MS: u64 = 60_000;

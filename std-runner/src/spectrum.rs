@@ -302,7 +302,7 @@ mod tests {
     fn the_default_range_stays_within_the_limit() {
         assert_eq!(default_range(1), 16);
         assert_eq!(default_range(64), 32);
-        assert_eq!(default_range(4096), MAX_RANGE);
+        assert_eq!(default_range(crate::limits::MAX_PATTERN_SPP), MAX_RANGE);
         assert!(spectrum(SamplerKind::Independent, 1089, 0, 1, default_range(1089)).is_ok());
     }
 

@@ -109,7 +109,7 @@ material = "grey"
 #[test]
 fn smooth_pixels_stop_at_the_base_and_noisy_ones_take_more() {
     let parse = |text: &str| {
-        strata_runner::scene_file::parse(std::path::Path::new("sky.toml"), text).unwrap()
+        strata_runner::scenes::file::parse(std::path::Path::new("sky.toml"), text).unwrap()
     };
     let scene = parse(SKY_AND_SPHERE);
     let flat = parse(&SKY_AND_SPHERE.replace("\"sky\"", "[1.0, 1.0, 1.0]"));
@@ -244,7 +244,7 @@ fn flat_regions_stop_at_the_base_whatever_the_filter() {
     // at the base, even under Lanczos whose weights change sign; only
     // pixels whose base samples fall back to the plain mean (|Σ w| < n/4,
     // measured at 3.9 % of Lanczos pixels of 16 samples) go on.
-    let flat = strata_runner::scene_file::parse(
+    let flat = strata_runner::scenes::file::parse(
         std::path::Path::new("sky.toml"),
         &SKY_AND_SPHERE.replace("\"sky\"", "[1.0, 1.0, 1.0]"),
     )

@@ -125,7 +125,8 @@ fn the_footprint_of_a_pixel_centre_covers_its_pixel() {
     // wall, so the prefiltered value is the pixel's area average, which a
     // 4096-spp point-sampled render estimates to within about 0.45/64.
     // The wall is at z = −5; 5 / 0.0462 = 108.2 cells, mid-cell in z.
-    let scene = strata_runner::scene_file::parse(std::path::Path::new("wall.toml"), WALL).unwrap();
+    let scene =
+        strata_runner::scenes::file::parse(std::path::Path::new("wall.toml"), WALL).unwrap();
     let (w, h) = (64, 36);
     // Pixel size at the wall: 2·5·tan(20°) / 36 = 0.1011; cells 0.0462
     // wide, so a pixel spans about 2.2 cells and point samples alias.

@@ -101,7 +101,7 @@ fn scenes() -> Vec<(String, Vec<Sphere>)> {
         .collect();
     out.push(("one centre".into(), same));
     // The cover layout.
-    out.push(("cover".into(), strata_runner::workload::cover_spheres()));
+    out.push(("cover".into(), strata_runner::scenes::cover_spheres()));
     out
 }
 
@@ -359,7 +359,7 @@ fn degenerate_input_builds_within_the_depth_bound() {
 /// and the same shape.
 #[test]
 fn builds_are_deterministic() {
-    let spheres = strata_runner::workload::cover_spheres();
+    let spheres = strata_runner::scenes::cover_spheres();
     let mut a = Owned::new(spheres.len());
     let mut b = Owned::new(spheres.len());
     {

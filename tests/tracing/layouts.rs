@@ -4,7 +4,7 @@
 
 use std::path::Path;
 use strata::trace::Sphere;
-use strata_runner::workload::{course_spheres, cover_spheres};
+use strata_runner::scenes::{course_spheres, cover_spheres};
 
 fn parse(csv: &str) -> Vec<[u32; 4]> {
     csv.lines()

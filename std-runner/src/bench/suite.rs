@@ -249,9 +249,8 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
 /// build time of 10⁶ spheres. Brute force traces the first 20 000 rays of
 /// the 10 000-sphere workload (rates are per ray).
 fn bvh(s: &mut Suite<'_>) -> Result<()> {
-    use crate::workload::{
-        COVER_VIEW, camera_rays, cover_spheres, random_rays, random_spheres_10k,
-    };
+    use crate::scenes::{COVER_VIEW, cover_spheres};
+    use crate::workload::{camera_rays, random_rays, random_spheres_10k};
     let (lo, hi) = crate::workload::ray_box(true);
     let workloads = [
         (

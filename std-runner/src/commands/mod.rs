@@ -18,8 +18,7 @@ use strata::render::Tile;
 
 use crate::image_io::check_writable_dir;
 use crate::limits::MAX_WIDTH;
-use crate::scene_file;
-use crate::scenes::{BUILT_IN, SceneData, built_in};
+use crate::scenes::{BUILT_IN, SceneData, built_in, file};
 
 /// Loads `--scene`: a built-in name, or a path to a TOML file.
 pub fn resolve_scene(arg: &str) -> Result<SceneData> {
@@ -28,7 +27,7 @@ pub fn resolve_scene(arg: &str) -> Result<SceneData> {
     }
     let path = Path::new(arg);
     if arg.ends_with(".toml") || path.exists() {
-        return Ok(scene_file::load(path)?);
+        return Ok(file::load(path)?);
     }
     bail!(
         "unknown scene `{arg}`: use one of {} or a .toml file",

@@ -8,8 +8,8 @@ use strata::render::{Background, CameraDesc, Material, Texture};
 use strata::rng::{Pcg32, next_f32};
 use strata::trace::Sphere;
 
+use super::geometry::{COURSE_VIEW, COVER_VIEW, course_spheres, cover_spheres};
 use super::{Defaults, Image, SceneData};
-use crate::workload::{course_spheres, cover_spheres};
 
 /// The names of the built-in scenes.
 pub const BUILT_IN: [&str; 4] = ["week09", "cover", "showcase", "horizon"];
@@ -56,10 +56,10 @@ pub fn week09() -> SceneData {
         image_albedo: vec![],
         images: vec![],
         camera: CameraDesc {
-            look_from: Vec3::new(-2.0, 2.0, 1.0),
-            look_at: Vec3::new(0.0, 0.0, -1.0),
+            look_from: COURSE_VIEW.from,
+            look_at: COURSE_VIEW.at,
             up: Vec3::Y,
-            vfov_deg: 60.0,
+            vfov_deg: COURSE_VIEW.vfov,
             defocus_angle_deg: 0.0,
             focus_dist: 5.0,
         },
@@ -135,10 +135,10 @@ pub fn cover() -> SceneData {
         image_albedo: vec![],
         images: vec![],
         camera: CameraDesc {
-            look_from: Vec3::new(13.0, 2.0, 3.0),
-            look_at: Vec3::ZERO,
+            look_from: COVER_VIEW.from,
+            look_at: COVER_VIEW.at,
             up: Vec3::Y,
-            vfov_deg: 20.0,
+            vfov_deg: COVER_VIEW.vfov,
             // libm, not the platform's atan: the same lens bits everywhere.
             defocus_angle_deg: 2.0 * libm::atanf(0.05 / focus).to_degrees(),
             focus_dist: focus,

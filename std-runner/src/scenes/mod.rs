@@ -1,6 +1,8 @@
 //! Scenes as owned data ([`SceneData`]) and the memory the core builds
-//! them into ([`SceneBuffers`]); the built-in scenes are in `builtin.rs`,
-//! the scene hash in `hash.rs`, scene files in `crate::scene_file`.
+//! them into ([`SceneBuffers`]); the built-in scenes are in `builtin.rs`
+//! (their sphere layouts and views, which the benchmarks share, in
+//! `geometry.rs`), the scene hash in `hash.rs`, scene files in
+//! [`file`](mod@file).
 
 use glam::Vec3;
 use strata::render::{
@@ -9,11 +11,14 @@ use strata::render::{
 use strata::trace::{Bvh, BvhError, BvhNode8, BvhStorage, Sphere, SphereChunk8, SphereSet};
 
 mod builtin;
+pub mod file;
+mod geometry;
 mod hash;
 
 pub use builtin::{
     BUILT_IN, HORIZON_RADIUS, built_in, cover, globe_image, horizon, showcase, week09,
 };
+pub use geometry::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres};
 
 /// The sphere count from which the runner traces a scene through a BVH.
 /// On the course's 4 spheres the brute-force 8-wide loop is faster and on

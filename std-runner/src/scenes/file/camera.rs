@@ -1,0 +1,153 @@
+//! `[camera]` and `[render]`: where the picture is taken from, and the
+//! settings the command line falls back on.
+
+use std::ops::Range;
+
+use glam::Vec3;
+use serde::Deserialize;
+use strata::render::{Camera, CameraDesc, CameraError};
+use toml::Spanned;
+
+use super::{SceneFileError, Source};
+use crate::limits::{MAX_DEPTH, MAX_SPP, MAX_WIDTH};
+use crate::scenes::Defaults;
+
+/// `[camera]` as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FileCamera {
+    look_from: Spanned<[f32; 3]>,
+    look_at: Spanned<[f32; 3]>,
+    up: Option<Spanned<[f32; 3]>>,
+    vfov: Spanned<f32>,
+    defocus_angle: Option<Spanned<f32>>,
+    focus_dist: Option<Spanned<f32>>,
+}
+
+/// `[render]` as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FileRender {
+    width: Option<Spanned<u32>>,
+    aspect: Option<Spanned<f32>>,
+    spp: Option<Spanned<u32>>,
+    max_depth: Option<Spanned<u32>>,
+}
+
+/// What a scene file without `[render]` (or a key of it) renders at.
+const DEFAULTS: Defaults = Defaults {
+    width: 320,
+    aspect: 16.0 / 9.0,
+    spp: 16,
+    max_depth: 8,
+};
+
+/// The camera, checked by building it as the renderer will.
+pub(super) fn camera(
+    src: &Source<'_>,
+    section: &Spanned<FileCamera>,
+) -> Result<CameraDesc, SceneFileError> {
+    let cam = section.get_ref();
+    let look_from = src.vec3(&cam.look_from, "camera.look_from")?;
+    let look_at = src.vec3(&cam.look_at, "camera.look_at")?;
+    let up = match &cam.up {
+        Some(u) => src.vec3(u, "camera.up")?,
+        None => Vec3::Y,
+    };
+    let focus_dist = match &cam.focus_dist {
+        Some(f) => *f.get_ref(),
+        None => (look_from - look_at).length(),
+    };
+    let camera = CameraDesc {
+        look_from,
+        look_at,
+        up,
+        vfov_deg: *cam.vfov.get_ref(),
+        defocus_angle_deg: cam.defocus_angle.as_ref().map_or(0.0, |d| *d.get_ref()),
+        focus_dist,
+    };
+    match Camera::new(&camera, 1, 1) {
+        Ok(_) => Ok(camera),
+        Err(e) => {
+            let (span, field, message) = blame(section, e);
+            Err(src.error(span, field, message.into()))
+        }
+    }
+}
+
+/// The key (its span and name) a camera error is about, and why.
+fn blame(
+    section: &Spanned<FileCamera>,
+    e: CameraError,
+) -> (Range<usize>, &'static str, &'static str) {
+    let cam = section.get_ref();
+    match e {
+        CameraError::FieldOfView => (
+            cam.vfov.span(),
+            "camera.vfov",
+            "must be in (0, 180) degrees",
+        ),
+        CameraError::Lens => match (&cam.focus_dist, &cam.defocus_angle) {
+            (Some(f), _) if !(*f.get_ref() > 0.0 && f.get_ref().is_finite()) => {
+                (f.span(), "camera.focus_dist", "must be positive and finite")
+            }
+            (_, Some(d)) => (
+                d.span(),
+                "camera.defocus_angle",
+                "must be in [0, 180) degrees",
+            ),
+            _ => (section.span(), "camera", "look_from and look_at coincide"),
+        },
+        CameraError::DegenerateView | CameraError::EmptyImage => (
+            section.span(),
+            "camera",
+            "look_from equals look_at, or up is parallel to the view",
+        ),
+    }
+}
+
+/// The render defaults: [`DEFAULTS`] with what `[render]` sets, each in
+/// the range the command line accepts.
+pub(super) fn defaults(
+    src: &Source<'_>,
+    section: Option<&Spanned<FileRender>>,
+) -> Result<Defaults, SceneFileError> {
+    let mut defaults = DEFAULTS;
+    let Some(section) = section else {
+        return Ok(defaults);
+    };
+    let r = section.get_ref();
+    let ranged =
+        |v: &Option<Spanned<u32>>, field: &str, max: u32| -> Result<Option<u32>, SceneFileError> {
+            match v {
+                Some(s) if !(1..=max).contains(s.get_ref()) => Err(src.error(
+                    s.span(),
+                    field,
+                    format!("must be in 1..={max}, got {}", s.get_ref()),
+                )),
+                Some(s) => Ok(Some(*s.get_ref())),
+                None => Ok(None),
+            }
+        };
+    if let Some(w) = ranged(&r.width, "render.width", MAX_WIDTH)? {
+        defaults.width = w;
+    }
+    if let Some(s) = ranged(&r.spp, "render.spp", MAX_SPP)? {
+        defaults.spp = s;
+    }
+    if let Some(d) = ranged(&r.max_depth, "render.max_depth", MAX_DEPTH)? {
+        defaults.max_depth = d;
+    }
+    if let Some(a) = &r.aspect {
+        let v = *a.get_ref();
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(src.error(
+                a.span(),
+                "render.aspect",
+                format!("must be positive, got {v}"),
+            ));
+        }
+        defaults.aspect = v;
+    }
+    Ok(defaults)
+}

@@ -1,0 +1,227 @@
+//! Scene files in TOML. Every error names the file, the line and the
+//! field, and every value is checked before any work starts.
+//!
+//! ```toml
+//! background = "sky"          # or an RGB radiance: [0.1, 0.1, 0.1]; top-level
+//!                             # keys come before the first [table]
+//! [camera]
+//! look_from = [-2.0, 2.0, 1.0]
+//! look_at = [0.0, 0.0, -1.0]
+//! up = [0.0, 1.0, 0.0]        # optional, default +y
+//! vfov = 60.0                 # degrees, in (0, 180)
+//! defocus_angle = 0.0         # optional, degrees; 0 is a pinhole
+//! focus_dist = 5.0            # optional, default |look_from - look_at|
+//!
+//! [render]                    # optional defaults for the command line
+//! width = 320
+//! aspect = 1.7777778
+//! spp = 30
+//! max_depth = 5
+//!
+//! [textures.checker]
+//! kind = "checker"            # or "image" with path = "file.png"
+//! scale = 0.32
+//! even = [0.2, 0.2, 0.2]
+//! odd = [0.9, 0.9, 0.9]
+//!
+//! [materials.ground]
+//! kind = "lambertian"         # lambertian, mirror, metal, dielectric, phong,
+//! texture = "checker"         # blinn, phong_normalized, blinn_normalized,
+//!                             # cook_torrance, light
+//! [materials.centre]
+//! kind = "blinn"
+//! albedo = [0.4, 0.5, 0.4]
+//! kd = 0.5
+//! ks = 0.6
+//! exponent = 8.0
+//!
+//! [[spheres]]
+//! center = [0.0, -100.5, -1.0]
+//! radius = 100.0
+//! material = "ground"
+//! ```
+//!
+//! Material parameters: `albedo` (RGB in [0, 1]) or `texture` (a texture
+//! name) for lambertian, phong, blinn, the normalised lobes and
+//! cook_torrance; `kd`, `ks`, `exponent` for the lobes; `alpha` (0, 1] and
+//! `ior` for cook_torrance; `albedo` and `roughness` [0, 1] for metal;
+//! `albedo` for mirror; `ior` for dielectric; `emit` for light.
+//!
+//! One file per section: `camera.rs` (`[camera]`, `[render]`),
+//! `textures.rs`, `materials.rs` and `spheres.rs` (`[[spheres]]` and the
+//! background); each checks its section and names what is wrong.
+
+mod camera;
+mod materials;
+mod spheres;
+mod textures;
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::scenes::SceneData;
+
+/// A scene file that could not be used: where and why.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("{file}:{line}: {field}: {message}")]
+pub struct SceneFileError {
+    /// The file.
+    pub file: PathBuf,
+    /// 1-based line of the offending value (or its table).
+    pub line: usize,
+    /// The field, as a TOML path (`spheres[2].radius`).
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The whole file as deserialized, each section's types next to the code
+/// that checks them.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    camera: Spanned<camera::FileCamera>,
+    render: Option<Spanned<camera::FileRender>>,
+    background: Option<Spanned<spheres::FileBackground>>,
+    #[serde(default)]
+    textures: BTreeMap<String, Spanned<textures::FileTexture>>,
+    materials: BTreeMap<String, Spanned<materials::FileMaterial>>,
+    spheres: Vec<Spanned<spheres::FileSphere>>,
+}
+
+/// Reads and checks a scene file.
+pub fn load(path: &Path) -> Result<SceneData, SceneFileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneFileError {
+        file: path.to_path_buf(),
+        line: 0,
+        field: "(file)".into(),
+        message: format!("cannot read: {e}"),
+    })?;
+    parse(path, &text)
+}
+
+/// Parses and checks scene-file text; `path` names it in errors and
+/// anchors relative image paths. The sections are checked one after
+/// another, and the first error found is the one reported.
+pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
+    let src = Source { path, text };
+    let file = src.deserialize()?;
+    let camera = camera::camera(&src, &file.camera)?;
+    let defaults = camera::defaults(&src, file.render.as_ref())?;
+    let background = spheres::background(&src, file.background.as_ref())?;
+    let textures = textures::textures(&src, &file.textures)?;
+    let materials = materials::materials(&src, &file.materials, &textures.named)?;
+    let (spheres, sphere_material) = spheres::spheres(&src, &file.spheres, &materials.index)?;
+    Ok(SceneData {
+        name: path
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned()),
+        spheres,
+        sphere_material,
+        materials: materials.list,
+        image_albedo: materials.image_albedo,
+        images: textures.images,
+        camera,
+        background,
+        defaults,
+    })
+}
+
+/// The file being parsed: its name and text, which every error points
+/// into.
+struct Source<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Source<'_> {
+    /// An error at the line holding byte `span.start`.
+    fn error(&self, span: Range<usize>, field: &str, message: String) -> SceneFileError {
+        SceneFileError {
+            file: self.path.to_path_buf(),
+            line: self.text[..span.start.min(self.text.len())]
+                .matches('\n')
+                .count()
+                + 1,
+            field: field.to_string(),
+            message,
+        }
+    }
+
+    /// The text as a [`File`], or the TOML error placed in its table.
+    fn deserialize(&self) -> Result<File, SceneFileError> {
+        toml::from_str(self.text).map_err(|e| {
+            let span = e.span().unwrap_or(0..0);
+            let message = e.message();
+            // serde's message for an untagged enum names only the type.
+            if message.contains("FileBackground") {
+                return self.error(
+                    span,
+                    "background",
+                    "must be \"sky\" or an RGB radiance [r, g, b]".into(),
+                );
+            }
+            let field = enclosing_table(self.text, span.start);
+            self.error(span, &field, message.to_string())
+        })
+    }
+
+    /// A finite point or direction.
+    fn vec3(&self, s: &Spanned<[f32; 3]>, field: &str) -> Result<Vec3, SceneFileError> {
+        let v = Vec3::from(*s.get_ref());
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error(s.span(), field, format!("must be finite, got {v}")))
+        }
+    }
+
+    /// A colour with every component in `[0, max]`.
+    fn colour(
+        &self,
+        c: [f32; 3],
+        max: f32,
+        span: Range<usize>,
+        field: &str,
+    ) -> Result<Vec3, SceneFileError> {
+        let v = Vec3::from(c);
+        if v.is_finite() && v.cmpge(Vec3::ZERO).all() && v.cmple(Vec3::splat(max)).all() {
+            Ok(v)
+        } else {
+            Err(self.error(
+                span,
+                field,
+                format!("each component must be in [0, {max}], got {v}"),
+            ))
+        }
+    }
+}
+
+/// The TOML table that holds byte `offset`: `materials.glass` for a
+/// `[materials.glass]` header, `spheres[3]` for the fourth `[[spheres]]`,
+/// `(top level)` before any header.
+fn enclosing_table(text: &str, offset: usize) -> String {
+    let mut current = "(top level)".to_string();
+    let mut arrays: BTreeMap<String, usize> = BTreeMap::new();
+    let mut pos = 0;
+    for line in text.split_inclusive('\n') {
+        if pos > offset {
+            break;
+        }
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+            let k = arrays.entry(name.trim().to_string()).or_insert(0);
+            current = format!("{}[{}]", name.trim(), k);
+            *k += 1;
+        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.split(']').next()) {
+            current = name.trim().to_string();
+        }
+        pos += line.len();
+    }
+    current
+}
