@@ -7,19 +7,29 @@
 //! spheres, their 8-wide chunks, the materials, the texels of image
 //! textures, the light list and the film.
 //!
-//! See [`integrator`](self::render_tile) for the path, the dimension
-//! layout and the depth convention, [`film`](PixelSum) for the exact
-//! accumulation, and [`Material`] for each model and how it differs from
-//! the course's.
+//! The submodules group the docs by concept; every item is also
+//! re-exported here, so `strata::render::Scene` and
+//! `strata::render::scene::Scene` are the same type.
+//!
+//! | module | what |
+//! |---|---|
+//! | [`camera`] | the course's thin-lens camera |
+//! | [`texture`] | solid, checker (point-sampled or prefiltered) and image textures |
+//! | [`material`] | the material models and how each differs from the course's |
+//! | [`scene`] | spheres, materials, lights and background, built into caller-owned storage |
+//! | [`integrator`] | one camera path: the dimension layout and the depth convention |
+//! | [`film`] | exact fixed-point accumulation |
+//! | [`tile`] | rectangles of pixels rendered into the caller's film |
+//! | [`adaptive`] | the adaptive-sampling rule |
 
-mod adaptive;
-mod camera;
-mod film;
-mod integrator;
-mod material;
-mod scene;
-mod texture;
-mod tile;
+pub mod adaptive;
+pub mod camera;
+pub mod film;
+pub mod integrator;
+pub mod material;
+pub mod scene;
+pub mod texture;
+pub mod tile;
 
 pub use crate::filter::PixelFilter;
 pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PixelError};

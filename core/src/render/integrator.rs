@@ -1,5 +1,5 @@
 //! The path tracer: one camera path, from the pixel sample to radiance
-//! (tiles of them are in `tile.rs`).
+//! (tiles of them are in [`tile`](super::tile)).
 //!
 //! # One camera path
 //!
@@ -38,7 +38,7 @@
 //! heuristic, so no emission is counted twice (the course's D7).
 //!
 //! A sample's radiance depends only on (scene, camera, sampler, seed,
-//! pixel, index): [`render_tile`] gives every pixel the same bits whatever
+//! pixel, index): [`render_tile`](super::render_tile) gives every pixel the same bits whatever
 //! the tile, the order or the thread, and camera-ray packets return the
 //! same hits as single rays.
 

@@ -6,7 +6,7 @@
 //! D6 used raw camera directions of length ≈ 5).
 //!
 //! Smooth materials (everything diffuse-like or glossy) sample `L` from the
-//! cosine-weighted hemisphere around `n` in an [`Onb`] — the course's
+//! cosine-weighted hemisphere around `n` in an [`Onb`](crate::onb::Onb) — the course's
 //! assignment — and weight it by `f(V, L) cos θ / pdf`, which is `π f`
 //! (the course left out the `1/pdf`, D2, and the `1/π` of the diffuse
 //! BRDF, D10). So each estimate is unbiased; glossy lobes are noisy at
