@@ -111,7 +111,7 @@ pub struct ConvergeArgs {
     /// Also measure 1024 spp (after 1, 4, 16, 64, 256).
     #[arg(long)]
     pub with_1024: bool,
-    /// Samples per pixel of the reference (Sobol'), at least 4 times the
+    /// Samples per pixel of the reference (Sobol'), at least 16 times the
     /// largest measured spp.
     #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
     pub reference_spp: u32,
