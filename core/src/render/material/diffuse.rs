@@ -22,6 +22,7 @@ impl Lambertian<'_> {
         check(texture_ok(&self.albedo), MaterialError::Colour)
     }
 
+    #[inline]
     pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
         s.albedo(&self.albedo) * FRAC_1_PI
     }
@@ -42,6 +43,7 @@ pub(super) fn validate_base(albedo: &Texture<'_>, kd: f32, ks: f32) -> Result<()
 }
 
 /// `ρ kd/π`: the diffuse part of a lobe that adds a white specular term.
+#[inline]
 pub(super) fn base(rho: Vec3, kd: f32) -> Vec3 {
     rho * (kd * FRAC_1_PI)
 }
@@ -49,6 +51,7 @@ pub(super) fn base(rho: Vec3, kd: f32) -> Vec3 {
 /// Draws `L` from the cosine hemisphere around `n` and weights it by
 /// `f cos θ / pdf = π f`, with `brdf` giving `f` at the drawn direction;
 /// `None` on the rim, where the density is 0.
+#[inline]
 pub(super) fn sample_cosine(
     n: Vec3,
     u: Vec2,

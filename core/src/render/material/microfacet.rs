@@ -57,6 +57,7 @@ impl<'a> CookTorrance<'a> {
 
     /// `ρ kd/π + ks D G₁(V) G₁(L) F / (4 (n·V)(n·L))`, the specular term 0
     /// when `V` or `H` is below the surface.
+    #[inline]
     pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
         let alpha = self.alpha;
         let n = s.n();

@@ -285,16 +285,19 @@ struct Shading<'h> {
 
 impl Shading<'_> {
     /// The unit shading normal.
+    #[inline]
     fn n(&self) -> Vec3 {
         self.hit.n
     }
 
     /// The albedo `ρ` at the hit, averaged over its footprint.
+    #[inline]
     fn albedo(&self, t: &Texture<'_>) -> Vec3 {
         t.filtered(self.hit.uv, self.hit.p, self.hit.footprint)
     }
 
     /// The half vector `unit(V + L)` of Blinn and Cook–Torrance.
+    #[inline]
     fn half(&self) -> Vec3 {
         (self.v + self.wi).normalize_or_zero()
     }

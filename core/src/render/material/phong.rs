@@ -22,6 +22,7 @@ pub(super) enum Kind {
 impl Kind {
     /// The cosine the lobe raises to the exponent: `R·V` with `R` the
     /// mirror of `L` about `n`, or `n·H`.
+    #[inline]
     fn cosine(self, s: &Shading<'_>) -> f32 {
         match self {
             Kind::Phong | Kind::PhongNormalized => (s.n() * (2.0 * s.cos_l) - s.wi).dot(s.v),
@@ -31,6 +32,7 @@ impl Kind {
 
     /// The factor that makes the lobe conserve energy; `None` for the
     /// course's unnormalised lobes.
+    #[inline]
     fn normalisation(self, exponent: f32) -> Option<f32> {
         match self {
             Kind::Phong | Kind::Blinn => None,
@@ -86,6 +88,7 @@ impl<'a> Phong<'a> {
 
     /// The course's lobes tint the specular term with `ρ`; the normalised
     /// ones keep it white.
+    #[inline]
     pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
         let (kd, ks, exponent) = (self.kd, self.ks, self.exponent);
         let rho = s.albedo(&self.albedo);

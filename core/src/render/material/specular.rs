@@ -15,6 +15,7 @@ fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 }
 
 /// A reflected direction carrying `weight`.
+#[inline]
 fn reflected(wi: Vec3, weight: Vec3) -> BsdfSample {
     BsdfSample {
         wi,
@@ -47,6 +48,7 @@ impl Specular {
 
     /// Metal adds `roughness` times a uniform unit vector to the mirror
     /// direction and is absorbed when that points below the surface.
+    #[inline]
     pub(super) fn sample(
         &self,
         d: Vec3,
@@ -80,6 +82,7 @@ impl Specular {
 
 /// Glass: reflects when `u_lobe` falls under Schlick's reflectance (always
 /// under total internal reflection), else refracts by Snell's law.
+#[inline]
 fn refract_or_reflect(d: Vec3, hit: &SurfaceHit, ior: f32, u_lobe: f32) -> BsdfSample {
     let n = hit.n;
     let eta = if hit.front_face { 1.0 / ior } else { ior };
