@@ -26,7 +26,7 @@ use strata_runner::scenes::{SceneData, built_in};
 
 use super::adaptive::{adaptive, job as adaptive_job};
 // The whole image through tiles of a given size, via the core alone.
-use super::render::{SETTINGS, course_camera, render as tiles, showcase};
+use crate::support::scenes::{SETTINGS, course_camera, render_tiles as tiles, showcase};
 
 const W: u32 = 19;
 const H: u32 = 11;

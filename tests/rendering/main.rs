@@ -9,6 +9,9 @@
 //! | `adaptive` | adaptive renders stop where they should and agree with uniform sampling |
 //! | `prefilter` | the prefiltered checker and its ray-differential footprint |
 
+#[path = "../support/mod.rs"]
+mod support;
+
 mod adaptive;
 mod determinism;
 mod prefilter;

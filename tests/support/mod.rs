@@ -1,7 +1,8 @@
 //! Helpers shared by the root test suite.
-#![allow(dead_code)] // each test binary uses a different part
+#![allow(dead_code)] // the sampling and rendering binaries each use a part
 
 pub mod chi2;
+pub mod scenes;
 
 /// A fixed seed per test, from its name (FNV-1a), so tests do not share
 /// streams yet every run is the same.

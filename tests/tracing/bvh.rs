@@ -36,14 +36,14 @@ fn unit(rng: &mut Pcg32) -> Vec3 {
     }
 }
 
-/// Owned storage and the tree over it.
-struct Owned {
+/// Storage a tree is built into.
+struct BvhBuffers {
     nodes: Vec<BvhNode8>,
     lanes: Vec<f32>,
     ids: Vec<u32>,
 }
 
-impl Owned {
+impl BvhBuffers {
     fn new(n: usize) -> Self {
         let s = bvh_storage_for(n);
         Self {
@@ -167,7 +167,7 @@ fn bvh_matches_brute_force_bit_for_bit() {
     let mut rng = Pcg32::new(7, 7);
     let mut total = 0;
     for (name, spheres) in scenes() {
-        let mut store = Owned::new(spheres.len());
+        let mut store = BvhBuffers::new(spheres.len());
         let bvh = store.build(&spheres);
         assert!(bvh.depth() <= BVH_MAX_DEPTH, "{name}");
         assert!(bvh.node_count() <= bvh_storage_for(spheres.len()).nodes);
@@ -226,7 +226,7 @@ fn one_stack_serves_interleaved_queries() {
     let mut rng = Pcg32::new(11, 11);
     let mut stack = BvhStack::new();
     for (name, spheres) in scenes().into_iter().filter(|(_, s)| s.len() <= 1000) {
-        let mut store = Owned::new(spheres.len());
+        let mut store = BvhBuffers::new(spheres.len());
         let bvh = store.build(&spheres);
         let rays = rays(&spheres, 2048, &mut rng);
         for (k, chunk) in rays.chunks(8).enumerate() {
@@ -255,7 +255,7 @@ fn ties_go_to_the_lowest_index() {
     spheres[0].radius = 0.0;
     spheres[1].radius = -1.0;
     spheres[2].radius = f32::NAN;
-    let mut store = Owned::new(spheres.len());
+    let mut store = BvhBuffers::new(spheres.len());
     let bvh = store.build(&spheres);
     let hit = bvh.closest_hit(&Ray::new(Vec3::ZERO, -Vec3::Z)).unwrap();
     assert_eq!((hit.sphere, hit.t), (3, 4.0));
@@ -321,14 +321,14 @@ fn storage_too_small_is_an_error_and_writes_nothing() {
         }
         assert!(lanes.iter().all(|&x| x == 7.0) && ids.iter().all(|&x| x == 9));
     }
-    let mut store = Owned::new(1);
+    let mut store = BvhBuffers::new(1);
     let bad = [Sphere::new(Vec3::new(f32::INFINITY, 0.0, 0.0), 1.0)];
     assert_eq!(
         Bvh::build(&bad, &mut store.nodes, &mut store.lanes, &mut store.ids).err(),
         Some(BvhError::SphereOutOfRange { index: 0 })
     );
     // No spheres: an empty tree that hits nothing.
-    let mut store = Owned::new(0);
+    let mut store = BvhBuffers::new(0);
     let bvh = store.build(&[]);
     assert_eq!(bvh.closest_hit(&Ray::new(Vec3::ZERO, Vec3::X)), None);
 }
@@ -338,7 +338,7 @@ fn storage_too_small_is_an_error_and_writes_nothing() {
 #[test]
 fn degenerate_input_builds_within_the_depth_bound() {
     let same = vec![Sphere::new(Vec3::ONE, 0.5); 100_000];
-    let mut store = Owned::new(same.len());
+    let mut store = BvhBuffers::new(same.len());
     let bvh = store.build(&same);
     assert!(bvh.depth() <= BVH_MAX_DEPTH, "depth {}", bvh.depth());
     let ray = Ray::new(Vec3::new(1.0, 1.0, 5.0), -Vec3::Z);
@@ -349,7 +349,7 @@ fn degenerate_input_builds_within_the_depth_bound() {
             Sphere::new(Vec3::new(x, 0.0, 0.0), x * 0.001)
         })
         .collect();
-    let mut store = Owned::new(line.len());
+    let mut store = BvhBuffers::new(line.len());
     let bvh = store.build(&line);
     assert!(bvh.depth() <= BVH_MAX_DEPTH, "depth {}", bvh.depth());
     assert!(bvh.node_count() <= bvh_storage_for(line.len()).nodes);
@@ -360,8 +360,8 @@ fn degenerate_input_builds_within_the_depth_bound() {
 #[test]
 fn builds_are_deterministic() {
     let spheres = strata_runner::scenes::cover_spheres();
-    let mut a = Owned::new(spheres.len());
-    let mut b = Owned::new(spheres.len());
+    let mut a = BvhBuffers::new(spheres.len());
+    let mut b = BvhBuffers::new(spheres.len());
     {
         let (ta, tb) = (a.build(&spheres), b.build(&spheres));
         assert_eq!((ta.node_count(), ta.depth()), (tb.node_count(), tb.depth()));
