@@ -1,25 +1,22 @@
 //! The command line: `strata [render] [flags]`, as clap types (each
-//! field's doc is its `--help` text) and the dispatch to
-//! [`crate::commands`], where each subcommand checks its flags and the
-//! scene before any work starts; a bad one exits non-zero with one clear
-//! line and writes nothing.
+//! field's doc is its `--help` text). [`crate::commands`] dispatches them
+//! and checks each subcommand's flags and scene before any work starts; a
+//! bad one exits non-zero with one clear line and writes nothing.
 
 use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, value_parser};
+use strata::filter::FilterKind;
+use strata::render::{PixelFilter, TextureFilter};
 
-use crate::commands::{
-    aliasing::aliasing, bench::bench, converge::converge, merge::merge, render::render,
-    spectrum::spectrum, verify::verify,
-};
-use crate::image_io::{Transfer, say};
+use crate::image_io::Transfer;
 use crate::limits::{
     MAX_DEPTH, MAX_MIN_TIME_MS, MAX_PANEL_WIDTH, MAX_PATTERN_PIXELS, MAX_PATTERN_SPP, MAX_RANGE,
     MAX_REPETITIONS, MAX_SEEDS, MAX_SPP, MAX_STUDY_SPP, MAX_THREADS, MAX_TILE, MAX_WIDTH,
 };
 use crate::render::SamplerKind;
-use crate::scenes::BvhMode;
+use crate::scenes::{BVH_THRESHOLD, BvhMode};
 
 /// Deterministic sampling and ray tracing of sphere scenes.
 #[derive(Debug, Parser)]
@@ -276,9 +273,12 @@ pub struct RenderArgs {
     /// Turn off direct lighting from sphere lights (BSDF sampling only).
     #[arg(long)]
     pub no_direct_lighting: bool,
-    /// Trace through a BVH: auto (from 16 spheres), on or off. Changes
-    /// speed, never the image.
-    #[arg(long, value_enum, default_value_t = BvhMode::Auto)]
+    /// Trace through a BVH: auto (from [`BVH_THRESHOLD`] spheres), on or
+    /// off. Changes speed, never the image.
+    #[arg(long, value_enum, default_value_t = BvhMode::Auto, help = format!(
+        "Trace through a BVH: auto (from {BVH_THRESHOLD} spheres), on or off. \
+         Changes speed, never the image"
+    ))]
     pub bvh: BvhMode,
     /// Render only part of the frame: x0,x1,y0,y1 as fractions of the
     /// image in [0, 1] (pbrt's --cropwindow); pixel bounds are
@@ -345,10 +345,10 @@ pub enum TextureFilterName {
 impl TextureFilterName {
     /// The core's setting.
     #[must_use]
-    pub fn filter(self) -> strata::render::TextureFilter {
+    pub fn filter(self) -> TextureFilter {
         match self {
-            TextureFilterName::None => strata::render::TextureFilter::None,
-            TextureFilterName::Box => strata::render::TextureFilter::Box,
+            TextureFilterName::None => TextureFilter::None,
+            TextureFilterName::Box => TextureFilter::Box,
         }
     }
 }
@@ -371,16 +371,28 @@ pub enum FilterName {
 }
 
 impl FilterName {
+    /// The core's filter kind of this name, with the shape parameters the
+    /// variants above document.
+    #[must_use]
+    pub fn kind(self) -> FilterKind {
+        match self {
+            FilterName::Box => FilterKind::Box,
+            FilterName::Tent => FilterKind::Tent,
+            FilterName::Gaussian => FilterKind::Gaussian { sigma: 0.5 },
+            FilterName::Mitchell => FilterKind::Mitchell {
+                b: 1.0 / 3.0,
+                c: 1.0 / 3.0,
+            },
+            FilterName::Lanczos => FilterKind::Lanczos { tau: 3.0 },
+            FilterName::BlackmanHarris => FilterKind::BlackmanHarris,
+        }
+    }
+
     /// The filter of this name and `radius` (its usual one if `None`).
-    pub fn filter(self, radius: Option<f32>) -> Result<strata::render::PixelFilter> {
-        use strata::filter::FilterKind;
-        let name = clap::ValueEnum::to_possible_value(&self)
-            .map(|v| v.get_name().to_string())
-            .unwrap_or_default();
-        let kind = FilterKind::named(&name)
-            .ok_or_else(|| anyhow::anyhow!("--filter {name}: no such filter in this build"))?;
+    pub fn filter(self, radius: Option<f32>) -> Result<PixelFilter> {
+        let kind = self.kind();
         let r = radius.unwrap_or(kind.default_radius());
-        strata::render::PixelFilter::new(kind, r)
+        PixelFilter::new(kind, r)
             .map_err(|e| anyhow::anyhow!("--filter {} --filter-radius {r}: {e}", kind.name()))
     }
 }
@@ -438,41 +450,20 @@ pub struct VerifyArgs {
     pub threads: u16,
 }
 
-/// Parses and runs a command line; what `main` calls.
-pub fn main_with(cli: Cli) -> Result<()> {
-    if cli.version {
-        say(&crate::version_line());
-        return Ok(());
-    }
-    match cli.command {
-        Some(Command::Render(args)) => render(&args),
-        Some(Command::Bench(args)) => bench(&args),
-        Some(Command::Converge(args)) => converge(&args),
-        Some(Command::Aliasing(args)) => aliasing(&args),
-        Some(Command::Spectrum(args)) => spectrum(&args),
-        Some(Command::Merge(args)) => merge(&args),
-        Some(Command::Verify(args)) => verify(&args),
-        // No subcommand: `strata render` with every default.
-        None => match Cli::try_parse_from(["strata", "render"])?.command {
-            Some(Command::Render(args)) => render(&args),
-            _ => unreachable!("`render` parses as the render subcommand"),
-        },
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Every `--filter` name is a core filter kind (names are matched at
-    /// run time, so this is where a mismatch would show).
+    /// Every `--filter` name is the core's kind of that name, with its
+    /// usual parameters and radius.
     #[test]
     fn every_filter_name_builds_its_filter() {
         use clap::ValueEnum;
         for name in FilterName::value_variants() {
-            let f = name.filter(None).unwrap();
             let flag = name.to_possible_value().unwrap();
-            assert_eq!(f.kind().name(), flag.get_name());
+            assert_eq!(Some(name.kind()), FilterKind::named(flag.get_name()));
+            let f = name.filter(None).unwrap();
+            assert_eq!(f.kind(), name.kind());
             assert_eq!(f.radius(), f.kind().default_radius());
         }
     }

@@ -295,7 +295,7 @@ pub fn file_hashes(scene: &SceneData, threads: usize) -> Result<[u64; 3]> {
     let mut out = [0; 3];
     for (h, ext) in out.iter_mut().zip(FILE_FORMATS) {
         let name = std::path::PathBuf::from(format!("golden.{ext}"));
-        let bytes = crate::commands::output::film_output_bytes(&name, &film, Transfer::Srgb)?;
+        let bytes = film.output_bytes(&name, Transfer::Srgb)?;
         *h = crate::hash::fnv1a(&bytes);
     }
     Ok(out)

@@ -13,7 +13,17 @@ use anyhow::{Context, Result, bail};
 use glam::Vec3;
 
 use crate::limits::MAX_TEXELS;
-use crate::scenes::Image;
+
+/// An image texture's texels, linear RGB, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width × height` linear RGB values, row-major.
+    pub texels: Vec<Vec3>,
+}
 
 /// How linear radiance becomes 8-bit values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -24,6 +34,17 @@ pub enum Transfer {
     /// a `gAMA` chunk of 1/2.
     #[value(name = "2")]
     Gamma2,
+}
+
+impl Transfer {
+    /// The curve's name in image metadata.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Transfer::Srgb => "srgb",
+            Transfer::Gamma2 => "gamma2",
+        }
+    }
 }
 
 /// The sRGB encoding of a linear value in `[0, 1]` (clamped).

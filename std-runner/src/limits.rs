@@ -16,6 +16,10 @@ pub const MAX_PIXELS: u64 = 1 << 25;
 /// The most samples per pixel.
 pub const MAX_SPP: u32 = 1 << 20;
 
+// Every sampler takes any spp a render may ask for (`--spp`, `--max-spp`,
+// a scene file's), so `strata render` needs no check of its own.
+const _: () = assert!(MAX_SPP <= strata::sampler::MAX_STRATA_SPP);
+
 /// The longest path, in ray segments (`--max-depth`).
 pub const MAX_DEPTH: u32 = 10_000;
 

@@ -80,7 +80,7 @@ fn draw_on(
     let root = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
     draw(&root)
         .and_then(|()| root.present())
-        .map_err(|e| anyhow::anyhow!("{what}: {e:?}"))
+        .map_err(|e| anyhow::anyhow!("{what}: {e}"))
 }
 
 /// The frame every study chart shares: `title` as the caption, the margin,

@@ -203,11 +203,11 @@ fn powers(t: f64, r: u32, out: &mut [(f64, f64)]) {
     }
 }
 
-/// The spectrum as an 8-bit grey image (RGB), each frequency a `cell ×
-/// cell` square: grey `P / 2` (a flat spectrum is mid-grey, `P ≥ 2`
-/// white), `ω = 0` at the centre.
+/// The spectrum as an 8-bit grey image (RGB), [`Spectrum::side`]` ×
+/// cell` pixels on a side, each frequency a `cell × cell` square: grey `P / 2` (a flat
+/// spectrum is mid-grey, `P ≥ 2` white), `ω = 0` at the centre.
 #[must_use]
-pub fn image(s: &Spectrum, cell: usize) -> (Vec<u8>, u32) {
+pub fn image(s: &Spectrum, cell: usize) -> Vec<u8> {
     let side = s.side();
     let n = side * cell;
     let mut buf = vec![0u8; n * n * 3];
@@ -219,7 +219,31 @@ pub fn image(s: &Spectrum, cell: usize) -> (Vec<u8>, u32) {
             buf[(y * n + x) * 3..][..3].copy_from_slice(&[g, g, g]);
         }
     }
-    (buf, n as u32)
+    buf
+}
+
+/// One line on the spectrum of a sampler: its mean power below the
+/// strata frequency `√spp` (where stratification removes power; `-` if
+/// no radius is that low) and over all radii.
+#[must_use]
+pub fn summary(s: &Spectrum) -> String {
+    let radial = s.radial();
+    let low: Vec<f64> = radial
+        .iter()
+        .filter(|(k, _)| (*k as f64) < (s.spp as f64).sqrt())
+        .map(|p| p.1)
+        .collect();
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    format!(
+        "{:<12} mean power below √spp: {}, over all radii: {:.3}",
+        s.sampler.name(),
+        if low.is_empty() {
+            "-".to_string()
+        } else {
+            format!("{:.3}", mean(&low))
+        },
+        mean(&radial.iter().map(|p| p.1).collect::<Vec<_>>())
+    )
 }
 
 /// The radial averages as CSV: `frequency,SAMPLER…`, frequency in cycles

@@ -274,6 +274,29 @@ pub fn series(points: &[Point], sampler: SamplerKind) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The study's results as a table for the terminal: a row per sampler,
+/// its RMSE at each of `spps`, and the fitted log–log slope over all of
+/// them and over 16 spp and up (where the asymptotic rate shows).
+#[must_use]
+pub fn table(points: &[Point], samplers: &[SamplerKind], spps: &[u32]) -> String {
+    let mut table = format!("{:<12}", "sampler");
+    for spp in spps {
+        write!(table, " {:>9}", format!("{spp} spp")).expect("a String");
+    }
+    table.push_str("  slope  slope>=16");
+    let slope = |line: &[(f64, f64)]| log_log_slope(line).map_or("-".into(), |k| format!("{k:.2}"));
+    for &s in samplers {
+        let line = series(points, s);
+        write!(table, "\n{:<12}", s.name()).expect("a String");
+        for &(_, e) in &line {
+            write!(table, " {e:>9.2e}").expect("a String");
+        }
+        let tail: Vec<_> = line.iter().copied().filter(|&(x, _)| x >= 16.0).collect();
+        write!(table, "  {:>5} {:>10}", slope(&line), slope(&tail)).expect("a String");
+    }
+    table
+}
+
 /// Draws the log–log convergence plot of `points` (one line per sampler,
 /// labelled with its fitted slope, and a dashed `spp^-1/2` guide) into an
 /// 8-bit RGB buffer of `width × height`.

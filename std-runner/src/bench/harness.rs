@@ -141,7 +141,8 @@ pub const MIN_JUDGED_CORES: f64 = 1.85;
 /// `simd`. Only ratios within one run are judged; absolute rates depend
 /// on the machine and are reported, never judged.
 ///
-/// - Packet / scalar (8 rays against the same spheres; 8× at most):
+/// - Packet / scalar (8 rays against the same spheres: about 8× from the
+///   lanes alone, not a bound, as the medians below show):
 ///   [`PACKET_TARGET`] on AVX2 and AVX-512 builds. Measured medians of
 ///   every packet comparison were 4.0–9.3× on an AVX-512 host with both
 ///   an AVX-512 and an AVX2 build, and 5.5–6.0× for shadow rays on an AVX2

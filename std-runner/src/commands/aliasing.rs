@@ -4,37 +4,30 @@
 use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
-use strata::render::Tile;
+use glam::Vec3;
+use strata::render::{TextureFilter, Tile};
 
 use crate::cli::{AliasingArgs, TextureFilterName};
-use crate::commands::{check_output_ext, height_for, resolve_scene};
+use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene};
 use crate::image_io::{Transfer, rgb8, say};
-use crate::limits::MAX_PIXELS;
 use crate::plot;
 use crate::render::SamplerKind;
+use crate::study::{self, View};
 
-/// Runs `strata aliasing`.
+/// Runs `strata aliasing`: the checks, a panel per sampler, the reference
+/// panel and each panel's RMSE against it, the PNG.
 pub fn aliasing(args: &AliasingArgs) -> Result<()> {
-    use crate::study::{self, View};
     let scene = resolve_scene(&args.scene)?;
     let width = args.width.unwrap_or(scene.defaults.width);
-    let height = height_for(&scene, width)?;
+    let height = height_for(&scene, width, None)?;
     if args.samplers.is_empty() {
         bail!("--samplers needs at least one sampler");
     }
     if args.samplers.len() > 8 {
         bail!("--samplers takes at most 8 panels");
     }
-    if args.spp > strata::sampler::MAX_STRATA_SPP {
-        bail!("--spp is at most {}", strata::sampler::MAX_STRATA_SPP);
-    }
     check_output_ext(&args.output, "png", "--output")?;
-    if width as u64 * height as u64 * args.samplers.len() as u64 > MAX_PIXELS {
-        bail!(
-            "{} panels of {width} x {height} are over {MAX_PIXELS} pixels",
-            args.samplers.len()
-        );
-    }
+    check_pixels(width, height, args.samplers.len())?;
     let view = View {
         scene: &scene,
         width,
@@ -44,37 +37,9 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
         threads: args.threads as usize,
         texture_filter: args.texture_filter.filter(),
     };
-    let prefiltered = match args.texture_filter {
-        TextureFilterName::None => "",
-        TextureFilterName::Box => ", prefiltered",
-    };
-    let mut panels = Vec::new();
-    for &s in &args.samplers {
-        panels.push((
-            format!("{}, {} spp{prefiltered}", s.name(), args.spp),
-            view.render(s, args.spp, args.seed)?,
-        ));
-    }
+    let mut panels = sampler_panels(args, &view)?;
     if args.reference_spp > 0 {
-        let point = View {
-            texture_filter: strata::render::TextureFilter::None,
-            ..view.clone()
-        };
-        let reference = point.render(
-            SamplerKind::Sobol,
-            args.reference_spp,
-            // A seed apart from the panels' (never equal to it).
-            args.seed ^ study::REFERENCE_SEED,
-        )?;
-        for (label, pixels) in &mut panels {
-            let e = study::rmse(pixels, &reference);
-            say(&format!("{label}: RMSE {e:.4}"));
-            write!(label, " (RMSE {e:.3})").ok();
-        }
-        panels.push((
-            format!("reference: sobol, {} spp", args.reference_spp),
-            reference,
-        ));
+        add_reference(args, &view, &mut panels)?;
     }
     let encoded: Vec<(String, Vec<u8>)> = panels
         .into_iter()
@@ -89,6 +54,49 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
         width,
         height,
         args.output.display()
+    ));
+    Ok(())
+}
+
+/// A labelled panel: its caption and linear pixels.
+type Panel = (String, Vec<Vec3>);
+
+/// One panel per `--samplers` entry, at `--spp` and `--seed`.
+fn sampler_panels(args: &AliasingArgs, view: &View<'_>) -> Result<Vec<Panel>> {
+    let prefiltered = match args.texture_filter {
+        TextureFilterName::None => "",
+        TextureFilterName::Box => ", prefiltered",
+    };
+    args.samplers
+        .iter()
+        .map(|&s| {
+            let label = format!("{}, {} spp{prefiltered}", s.name(), args.spp);
+            Ok((label, view.render(s, args.spp, args.seed)?))
+        })
+        .collect()
+}
+
+/// Renders the point-sampled Sobol' reference, labels each panel with its
+/// RMSE against it (and prints it), and adds it as the last panel.
+fn add_reference(args: &AliasingArgs, view: &View<'_>, panels: &mut Vec<Panel>) -> Result<()> {
+    let point = View {
+        texture_filter: TextureFilter::None,
+        ..view.clone()
+    };
+    let reference = point.render(
+        SamplerKind::Sobol,
+        args.reference_spp,
+        // A seed apart from the panels' (never equal to it).
+        args.seed ^ study::REFERENCE_SEED,
+    )?;
+    for (label, pixels) in panels.iter_mut() {
+        let e = study::rmse(pixels, &reference);
+        say(&format!("{label}: RMSE {e:.4}"));
+        write!(label, " (RMSE {e:.3})").expect("a String");
+    }
+    panels.push((
+        format!("reference: sobol, {} spp", args.reference_spp),
+        reference,
     ));
     Ok(())
 }

@@ -1,98 +1,44 @@
 //! `strata converge`: RMSE against spp for every sampler, against a cached
 //! high-spp reference, as a CSV, a log–log plot and fitted slopes.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::{Result, bail};
-use strata::render::Tile;
+use strata::render::{TextureFilter, Tile};
 
 use crate::cli::ConvergeArgs;
-use crate::commands::{check_output_ext, height_for, resolve_scene, window_of};
-use crate::image_io::{say, write_atomic};
-use crate::limits::MAX_PIXELS;
+use crate::commands::output::write_text;
+use crate::commands::{
+    check_output_ext, check_pixels, height_for, resolve_scene, samplers_or_all, window_of,
+};
+use crate::image_io::say;
 use crate::plot;
 use crate::render::SamplerKind;
+use crate::scenes::SceneData;
+use crate::study::{self, Point, View};
 
-/// Runs `strata converge`.
+/// The plot's size in pixels.
+const PLOT_SIZE: (u32, u32) = (800, 560);
+
+/// Runs `strata converge`: the plan (every check), the reference, the
+/// measured points, the files, the table.
 pub fn converge(args: &ConvergeArgs) -> Result<()> {
-    use crate::study::{self, View};
     let scene = resolve_scene(&args.scene)?;
-    let width = args.width.unwrap_or(scene.defaults.width);
-    let height = height_for(&scene, width)?;
-    if width as u64 * height as u64 > MAX_PIXELS {
-        bail!("{width} x {height} is over {MAX_PIXELS} pixels");
-    }
-    let window = match args.pixel_bounds {
-        Some(b) => window_of(b, width, height)?,
-        None => Tile {
-            x0: width / 4,
-            y0: height / 4,
-            width: (width / 2).max(1),
-            height: (height / 2).max(1),
-        },
-    };
-    let mut spps = vec![1u32, 4, 16, 64, 256];
-    if args.with_1024 {
-        spps.push(1024);
-    }
-    let top = *spps.last().expect("spp list");
-    // The reference's own error adds to every measured point: at 16 times
-    // the largest spp it adds at most about 3 % to the last point's RMSE.
-    if args.reference_spp < 16 * top {
-        bail!(
-            "--reference-spp {} must be at least 16 x {top} (the largest measured spp)",
-            args.reference_spp
-        );
-    }
-    let samplers = if args.samplers.is_empty() {
-        SamplerKind::ALL.to_vec()
-    } else {
-        // In the order given, each once.
-        let mut v = args.samplers.clone();
-        let mut seen = Vec::new();
-        v.retain(|s| {
-            let first = !seen.contains(s);
-            seen.push(*s);
-            first
-        });
-        v
-    };
-    let csv_path = args
-        .csv
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.csv", scene.name)));
-    let plot_path = args
-        .plot
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("converge-{}.png", scene.name)));
-    check_output_ext(&csv_path, "csv", "--csv")?;
-    check_output_ext(&plot_path, "png", "--plot")?;
-    let cache_dir = args
-        .cache_dir
-        .clone()
-        .unwrap_or_else(study::default_cache_dir);
-
-    let view = View {
-        scene: &scene,
-        width,
-        height,
-        window,
-        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
-        threads: args.threads as usize,
-        texture_filter: strata::render::TextureFilter::None,
-    };
-    let started = std::time::Instant::now();
-    let (reference, cached) = study::reference(&view, args.reference_spp, &cache_dir)?;
+    let plan = args.plan(&scene)?;
+    let view = &plan.view;
+    let started = Instant::now();
+    let (reference, cached) = study::reference(view, args.reference_spp, &plan.cache_dir)?;
+    let w = view.window;
     say(&format!(
         "{}: {}x{} crop at ({}, {}) of {}x{}, depth {}; reference: sobol {} spp, {}",
         scene.name,
-        window.width,
-        window.height,
-        window.x0,
-        window.y0,
-        width,
-        height,
+        w.width,
+        w.height,
+        w.x0,
+        w.y0,
+        view.width,
+        view.height,
         view.max_depth,
         args.reference_spp,
         if cached {
@@ -101,53 +47,115 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
-    let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
-
-    let title = format!(
-        "{}: RMSE of a {}x{} crop vs spp",
-        scene.name, window.width, window.height
-    );
-    let plot = study::plot_convergence(&points, &samplers, &title, 800, 560)?;
-    let text = study::csv(&points);
-    plot::write_png(&plot_path, &plot, 800, 560)?;
-    // Both files or neither.
-    if let Err(e) = write_atomic(&csv_path, |tmp| Ok(std::fs::write(tmp, &text)?)) {
-        std::fs::remove_file(&plot_path).ok();
-        return Err(e.context(format!("writing `{}`", csv_path.display())));
-    }
-
-    let mut table = format!("{:<12}", "sampler");
-    for spp in &spps {
-        write!(table, " {:>9}", format!("{spp} spp")).ok();
-    }
-    table.push_str("  slope  slope>=16");
-    for &s in &samplers {
-        let line = study::series(&points, s);
-        write!(
-            table,
-            "
-{:<12}",
-            s.name()
-        )
-        .ok();
-        for &(_, e) in &line {
-            write!(table, " {e:>9.2e}").ok();
-        }
-        let tail: Vec<_> = line.iter().copied().filter(|&(x, _)| x >= 16.0).collect();
-        let fmt = |k: Option<f64>| k.map_or("-".into(), |k| format!("{k:.2}"));
-        write!(
-            table,
-            "  {:>5} {:>10}",
-            fmt(study::log_log_slope(&line)),
-            fmt(study::log_log_slope(&tail))
-        )
-        .ok();
-    }
-    say(&table);
+    let points = study::converge(
+        view,
+        &plan.samplers,
+        &plan.spps,
+        args.seeds,
+        &reference,
+        &|_| {},
+    )?;
+    plan.write(&points)?;
+    say(&study::table(&points, &plan.samplers, &plan.spps));
     say(&format!(
         "wrote {} and {}",
-        csv_path.display(),
-        plot_path.display()
+        plan.csv.display(),
+        plan.plot.display()
     ));
     Ok(())
+}
+
+/// `strata converge` with every flag checked.
+struct ConvergePlan<'a> {
+    /// The scene, size and crop measured.
+    view: View<'a>,
+    /// The spp of the measured points.
+    spps: Vec<u32>,
+    /// The samplers measured, in order.
+    samplers: Vec<SamplerKind>,
+    /// The CSV written.
+    csv: PathBuf,
+    /// The plot written.
+    plot: PathBuf,
+    /// Where the reference is cached.
+    cache_dir: PathBuf,
+}
+
+impl ConvergeArgs {
+    /// Checks every flag against `scene`: the size and crop, the spp
+    /// list against the reference, the files.
+    fn plan<'a>(&self, scene: &'a SceneData) -> Result<ConvergePlan<'a>> {
+        let width = self.width.unwrap_or(scene.defaults.width);
+        let height = height_for(scene, width, None)?;
+        check_pixels(width, height, 1)?;
+        let window = match self.pixel_bounds {
+            Some(b) => window_of(b, width, height)?,
+            None => Tile {
+                x0: width / 4,
+                y0: height / 4,
+                width: (width / 2).max(1),
+                height: (height / 2).max(1),
+            },
+        };
+        let mut spps = vec![1u32, 4, 16, 64, 256];
+        if self.with_1024 {
+            spps.push(1024);
+        }
+        let top = *spps.last().expect("spp list");
+        // The reference's own error adds to every measured point: at 16
+        // times the largest spp it adds at most about 3 % to the last
+        // point's RMSE.
+        if self.reference_spp < 16 * top {
+            bail!(
+                "--reference-spp {} must be at least 16 x {top} (the largest measured spp)",
+                self.reference_spp
+            );
+        }
+        let named = |flag: &Option<PathBuf>, ext: &str| {
+            flag.clone()
+                .unwrap_or_else(|| PathBuf::from(format!("converge-{}.{ext}", scene.name)))
+        };
+        let (csv, plot) = (named(&self.csv, "csv"), named(&self.plot, "png"));
+        check_output_ext(&csv, "csv", "--csv")?;
+        check_output_ext(&plot, "png", "--plot")?;
+        Ok(ConvergePlan {
+            view: View {
+                scene,
+                width,
+                height,
+                window,
+                max_depth: self.max_depth.unwrap_or(scene.defaults.max_depth),
+                threads: self.threads as usize,
+                texture_filter: TextureFilter::None,
+            },
+            spps,
+            samplers: samplers_or_all(&self.samplers),
+            csv,
+            plot,
+            cache_dir: self
+                .cache_dir
+                .clone()
+                .unwrap_or_else(study::default_cache_dir),
+        })
+    }
+}
+
+impl ConvergePlan<'_> {
+    /// Writes the plot and the CSV of `points`: both files or neither.
+    fn write(&self, points: &[Point]) -> Result<()> {
+        let w = self.view.window;
+        let title = format!(
+            "{}: RMSE of a {}x{} crop vs spp",
+            self.view.scene.name, w.width, w.height
+        );
+        let (pw, ph) = PLOT_SIZE;
+        let image = study::plot_convergence(points, &self.samplers, &title, pw, ph)?;
+        let text = study::csv(points);
+        plot::write_png(&self.plot, &image, pw, ph)?;
+        if let Err(e) = write_text(&self.csv, &text) {
+            std::fs::remove_file(&self.plot).ok();
+            return Err(e);
+        }
+        Ok(())
+    }
 }

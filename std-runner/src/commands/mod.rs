@@ -1,6 +1,8 @@
-//! One file per `strata` subcommand, each read top to bottom: check the
-//! parsed flags (`crate::cli`), then do the work. Shared here: naming a
-//! scene, the image height it implies, pixel windows and output names.
+//! One file per `strata` subcommand, each read top to bottom: a plan (the
+//! parsed flags of `crate::cli` and the scene, checked), then the run,
+//! then the report. Here: [`run`], the dispatch `main` calls, and what
+//! several commands share: naming a scene, the image height and size it
+//! implies, pixel windows, output names, sampler lists, progress bars.
 
 pub mod aliasing;
 pub mod bench;
@@ -11,14 +13,41 @@ pub mod render;
 pub mod spectrum;
 pub mod verify;
 
+use std::io::IsTerminal;
 use std::path::Path;
 
 use anyhow::{Result, bail};
+use clap::Parser;
+use indicatif::{ProgressBar, ProgressStyle};
 use strata::render::Tile;
 
-use crate::image_io::check_writable_dir;
-use crate::limits::MAX_WIDTH;
+use crate::cli::{Cli, Command};
+use crate::image_io::{check_writable_dir, say};
+use crate::limits::{MAX_PIXELS, MAX_WIDTH};
+use crate::render::SamplerKind;
 use crate::scenes::{BUILT_IN, SceneData, built_in, file};
+
+/// Runs a parsed command line; what `main` calls.
+pub fn run(cli: Cli) -> Result<()> {
+    if cli.version {
+        say(&crate::version_line());
+        return Ok(());
+    }
+    match cli.command {
+        Some(Command::Render(args)) => render::render(&args),
+        Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Converge(args)) => converge::converge(&args),
+        Some(Command::Aliasing(args)) => aliasing::aliasing(&args),
+        Some(Command::Spectrum(args)) => spectrum::spectrum(&args),
+        Some(Command::Merge(args)) => merge::merge(&args),
+        Some(Command::Verify(args)) => verify::verify(&args),
+        // No subcommand: `strata render` with every default.
+        None => match Cli::try_parse_from(["strata", "render"])?.command {
+            Some(Command::Render(args)) => render::render(&args),
+            _ => unreachable!("`render` parses as the render subcommand"),
+        },
+    }
+}
 
 /// Loads `--scene`: a built-in name, or a path to a TOML file.
 pub fn resolve_scene(arg: &str) -> Result<SceneData> {
@@ -35,14 +64,36 @@ pub fn resolve_scene(arg: &str) -> Result<SceneData> {
     )
 }
 
-/// The height of a `width`-wide image of `scene` at its aspect.
-pub(crate) fn height_for(scene: &SceneData, width: u32) -> Result<u32> {
-    let aspect = scene.defaults.aspect;
-    let h = (width as f64 / aspect as f64).round();
+/// The height of a `width`-wide image at `aspect` (`--aspect`, named in
+/// the error), or at the scene's if `None`.
+pub(crate) fn height_for(scene: &SceneData, width: u32, aspect: Option<f32>) -> Result<u32> {
+    let a = aspect.unwrap_or(scene.defaults.aspect);
+    // Rounded: an f32 aspect such as 16/9 is inexact, and flooring
+    // 320 / 1.7777778 would give 179 rather than the course's 180.
+    let h = (width as f64 / a as f64).round();
     if !(1.0..=MAX_WIDTH as f64).contains(&h) {
-        bail!("width {width} at aspect {aspect} gives a height of {h} pixels (1..={MAX_WIDTH})");
+        match aspect {
+            Some(_) => bail!(
+                "--aspect {a} with width {width} gives a height of {h} pixels (1..={MAX_WIDTH})"
+            ),
+            None => {
+                bail!("width {width} at aspect {a} gives a height of {h} pixels (1..={MAX_WIDTH})")
+            }
+        }
     }
     Ok(h as u32)
+}
+
+/// Refuses `panels` images of `width × height` side by side (1: one
+/// image) over [`MAX_PIXELS`] in all.
+pub(crate) fn check_pixels(width: u32, height: u32, panels: usize) -> Result<()> {
+    if width as u64 * height as u64 * panels as u64 > MAX_PIXELS {
+        if panels == 1 {
+            bail!("{width} x {height} is over {MAX_PIXELS} pixels");
+        }
+        bail!("{panels} panels of {width} x {height} are over {MAX_PIXELS} pixels");
+    }
+    Ok(())
 }
 
 /// The window of `bounds` in a `width × height` image, or an error naming
@@ -60,7 +111,7 @@ pub(crate) fn window_of(bounds: [u32; 4], width: u32, height: u32) -> Result<Til
     })
 }
 
-/// Checks that `path` ends in `.ext` and can be written.
+/// Checks that `path` ends in `.ext` (in any case) and can be written.
 pub(crate) fn check_output_ext(path: &Path, ext: &str, flag: &str) -> Result<()> {
     if path
         .extension()
@@ -69,4 +120,64 @@ pub(crate) fn check_output_ext(path: &Path, ext: &str, flag: &str) -> Result<()>
         bail!("{flag} `{}` must end in .{ext}", path.display());
     }
     check_writable_dir(path)
+}
+
+/// The samplers a study measures: those listed, in the order given, each
+/// once; all of them if none is.
+pub(crate) fn samplers_or_all(listed: &[SamplerKind]) -> Vec<SamplerKind> {
+    if listed.is_empty() {
+        return SamplerKind::ALL.to_vec();
+    }
+    let mut out = Vec::new();
+    for &s in listed {
+        if !out.contains(&s) {
+            out.push(s);
+        }
+    }
+    out
+}
+
+/// A progress bar of `len` steps on stderr drawn by `template`, hidden
+/// when stderr is not a terminal (a log or a pipe would fill with
+/// redraws).
+pub(crate) fn progress_bar(len: u64, template: &str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(ProgressStyle::with_template(template).expect("a valid template"));
+    bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_need_their_extension_in_any_case() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        for ok in ["r.json", "R.JSON", "r.Json"] {
+            check_output_ext(&dir.join(ok), "json", "--json").unwrap();
+        }
+        assert_eq!(
+            std::fs::read_dir(dir).unwrap().count(),
+            0,
+            "the probe leaves nothing"
+        );
+        for bad in ["r.txt", "r", "json"] {
+            let e = check_output_ext(&dir.join(bad), "json", "--stats").unwrap_err();
+            assert!(e.to_string().contains("--stats"), "{e}");
+        }
+    }
+
+    #[test]
+    fn sampler_lists_keep_the_first_of_each_in_order() {
+        use SamplerKind::{Grid, Halton, Sobol};
+        assert_eq!(samplers_or_all(&[]), SamplerKind::ALL);
+        assert_eq!(
+            samplers_or_all(&[Sobol, Grid, Sobol, Halton, Grid]),
+            [Sobol, Grid, Halton]
+        );
+    }
 }

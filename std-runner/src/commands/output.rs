@@ -1,12 +1,15 @@
-//! What the commands write: films and images by extension, JSON reports,
-//! spp maps; every output name checked before work starts.
+//! What the commands write: films and images by extension, spp maps and
+//! text reports (JSON, CSV); every output name checked before work starts.
 
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 
-use crate::film::Film;
-use crate::image_io::{Transfer, check_output, check_writable_dir, write_atomic};
+use crate::film::{Film, is_film_path};
+use crate::image_io::{
+    Transfer, check_output, check_writable_dir, write_atomic, write_file, write_png_rgb8,
+};
+use crate::plot::spp_heat_map;
 
 /// Whether two paths name the same file, by their absolute forms (the
 /// files need not exist yet).
@@ -37,8 +40,8 @@ pub(crate) fn spp_summary(film: &Film) -> String {
 /// Writes the heat map of the samples each pixel of `film` took.
 pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
     let base = film.key.adaptive_base().unwrap_or(film.key.spp());
-    let bytes = crate::plot::spp_heat_map(&film.pixels, base, film.key.spp());
-    let mut meta = film.metadata("srgb");
+    let bytes = spp_heat_map(&film.pixels, base, film.key.spp());
+    let mut meta = film.metadata(Transfer::Srgb);
     meta.push((
         "strata.spp_map".into(),
         format!(
@@ -46,7 +49,7 @@ pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
             film.key.spp()
         ),
     ));
-    crate::image_io::write_png_rgb8(
+    write_png_rgb8(
         path,
         film.window.width,
         film.window.height,
@@ -57,88 +60,24 @@ pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
     .with_context(|| format!("writing `{}`", path.display()))
 }
 
-/// The transfer curve's name in metadata.
-pub(crate) fn transfer_name(t: Transfer) -> &'static str {
-    match t {
-        Transfer::Srgb => "srgb",
-        Transfer::Gamma2 => "gamma2",
-    }
-}
-
 /// `path` is a .png, .exr or .film name in a writable directory.
 pub(crate) fn check_output_or_film(path: &Path) -> Result<()> {
-    if is_film(path) {
+    if is_film_path(path) {
         check_writable_dir(path)
     } else {
         check_output(path).map_err(|e| anyhow::anyhow!("{e}, or .film for a partial film"))
     }
 }
 
-pub(crate) fn is_film(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("film"))
-}
-
-/// `path` ends in .json and can be written.
-pub(crate) fn check_json(path: &Path, flag: &str) -> Result<()> {
-    if path
-        .extension()
-        .is_none_or(|e| !e.eq_ignore_ascii_case("json"))
-    {
-        bail!("{flag} `{}` must end in .json", path.display());
-    }
-    check_writable_dir(path)
-}
-
 /// Writes `film` as a .film, or its window as a PNG/EXR image.
 pub(crate) fn write_film_or_image(path: &Path, film: &Film, transfer: Transfer) -> Result<()> {
-    let bytes = film_output_bytes(path, film, transfer)?;
-    write_atomic(path, |tmp| crate::image_io::write_file(tmp, &bytes))
+    let bytes = film.output_bytes(path, transfer)?;
+    write_atomic(path, |tmp| write_file(tmp, &bytes))
         .with_context(|| format!("writing `{}`", path.display()))
 }
 
-/// The bytes `strata render -o path` writes for `film`: the .film file, or
-/// its window as a PNG or EXR image with the film's metadata.
-pub fn film_output_bytes(path: &Path, film: &Film, transfer: Transfer) -> Result<Vec<u8>> {
-    if is_film(path) {
-        return Ok(film.to_bytes());
-    }
-    let format = crate::image_io::ImageFormat::of(path).ok_or_else(|| {
-        anyhow::anyhow!(
-            "output `{}` must end in .png, .exr or .film",
-            path.display()
-        )
-    })?;
-    let pixels: Vec<glam::Vec3> = film.pixels.iter().map(|p| p.mean()).collect();
-    crate::image_io::image_bytes(
-        format,
-        film.window.width,
-        film.window.height,
-        &pixels,
-        transfer,
-        &film.metadata(transfer_name(transfer)),
-    )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn json_outputs_need_a_json_name_in_any_case() {
-        let tmp = tempfile::tempdir().unwrap();
-        let dir = tmp.path();
-        for ok in ["r.json", "R.JSON", "r.Json"] {
-            check_json(&dir.join(ok), "--json").unwrap();
-        }
-        assert_eq!(
-            std::fs::read_dir(dir).unwrap().count(),
-            0,
-            "the probe leaves nothing"
-        );
-        for bad in ["r.txt", "r", "json"] {
-            let e = check_json(&dir.join(bad), "--stats").unwrap_err();
-            assert!(e.to_string().contains("--stats"), "{e}");
-        }
-    }
+/// Writes `text` to `path` atomically, naming the file in the error.
+pub(crate) fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_atomic(path, |tmp| Ok(std::fs::write(tmp, text)?))
+        .with_context(|| format!("writing `{}`", path.display()))
 }

@@ -1,186 +1,221 @@
 //! `strata render`: a scene (built-in or file) to a PNG, EXR or partial
 //! `.film`, after every flag is checked; run facts to stdout and `--stats`.
 
-use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
 
-use anyhow::{Context, Result, bail};
-use indicatif::{ProgressBar, ProgressStyle};
-use strata::render::Tile;
+use anyhow::{Result, anyhow, bail};
+use strata::render::{Adaptive, AdaptiveError, Tile, TileStats};
 
 use crate::cli::RenderArgs;
 use crate::commands::output::{
-    check_json, check_output_or_film, same_path, spp_summary, write_film_or_image, write_spp_map,
+    check_output_or_film, same_path, spp_summary, write_film_or_image, write_spp_map, write_text,
 };
-use crate::commands::{check_output_ext, resolve_scene, window_of};
+use crate::commands::{
+    check_output_ext, check_pixels, height_for, progress_bar, resolve_scene, window_of,
+};
 use crate::film::{Film, RenderKey, samples_text, window_text};
-use crate::image_io::{say, write_atomic};
-use crate::limits::{MAX_PIXELS, MAX_WIDTH};
-use crate::render::{Job, SamplerKind, run};
+use crate::image_io::{Transfer, say};
+use crate::render::{Job, Rendered, SamplerKind, run};
+use crate::scenes::SceneData;
 
-/// Runs `strata render`.
+/// Runs `strata render`: the plan (every check), the render, the files,
+/// the report.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let scene = resolve_scene(&args.scene)?;
-    let d = scene.defaults;
-    let width = args.width.unwrap_or(d.width);
-    let height = match args.height {
-        Some(h) => h,
-        None => {
-            let aspect = args.aspect.unwrap_or(d.aspect);
-            // Rounded: an f32 aspect such as 16/9 is inexact, and flooring
-            // 320 / 1.7777778 would give 179 rather than the course's 180.
-            let h = (width as f64 / aspect as f64).round();
-            if !(1.0..=MAX_WIDTH as f64).contains(&h) {
-                bail!(
-                    "--aspect {aspect} with width {width} gives a height of {h} pixels (1..={MAX_WIDTH})"
-                );
-            }
-            h as u32
-        }
-    };
-    if width as u64 * height as u64 > MAX_PIXELS {
-        bail!("{width} x {height} is over {MAX_PIXELS} pixels");
-    }
-    let base_spp = args.spp.unwrap_or(d.spp);
-    let adaptive = match (args.adaptive, args.max_spp) {
-        (Some(t), Some(max)) => Some(strata::render::Adaptive::new(base_spp, max, t).map_err(
-            |_| {
-                anyhow::anyhow!(
-                    "--max-spp {max} is below the base count {base_spp} (--spp or the scene's)"
-                )
-            },
-        )?),
-        _ => None,
-    };
-    if adaptive.is_some() && args.sampler == SamplerKind::Grid {
-        bail!(
-            "--adaptive needs a sampler whose first samples spread over the pixel \
-             (independent, stratified, sobol, halton): the grid fills its rows in order"
-        );
-    }
-    // The sampler's pattern holds every sample a pixel may take.
-    let spp = adaptive.map_or(base_spp, |a| a.max());
-    let max_depth = args.max_depth.unwrap_or(d.max_depth);
-    if args.sampler != SamplerKind::Independent && spp > strata::sampler::MAX_STRATA_SPP {
-        bail!(
-            "--sampler {} takes at most {} spp",
-            args.sampler.name(),
-            strata::sampler::MAX_STRATA_SPP
-        );
-    }
-    let window = match (args.crop, args.pixel_bounds) {
-        (Some(c), _) => crop_to_window(c, width, height)?,
-        (None, Some(b)) => window_of(b, width, height)?,
-        (None, None) => Tile::whole(width, height),
-    };
-    let filter = args.filter.filter(args.filter_radius)?;
-    let samples = args.samples.clone().unwrap_or(0..spp);
-    if samples.end > spp {
-        bail!(
-            "--samples {}..{} reaches past the {spp} samples per pixel",
-            samples.start,
-            samples.end
-        );
-    }
-    let output = args
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{}.png", scene.name)));
-    check_output_or_film(&output)?;
-    if let Some(stats) = &args.stats {
-        check_json(stats, "--stats")?;
-    }
-    if let Some(map) = &args.spp_map {
-        check_output_ext(map, "png", "--spp-map")?;
-        if same_path(map, &output) {
-            bail!("--spp-map `{}` is the image's output", map.display());
-        }
-    }
-
-    let job = Job {
-        scene: &scene,
-        width,
-        height,
-        window,
-        spp,
-        samples: samples.clone(),
-        max_depth,
-        sampler: args.sampler,
-        seed: args.seed,
-        threads: args.threads as usize,
-        tile: args.tile,
-        direct_lighting: !args.no_direct_lighting,
-        bvh: args.bvh,
-        filter,
-        adaptive,
-        texture_filter: args.texture_filter.filter(),
-    };
-    let bar = if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(window.area() as u64);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
-            )
-            .expect("a valid template"),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
-    let rendered = run(&job, &|n| bar.inc(n))?;
+    let plan = args.plan(&scene)?;
+    let job = &plan.job;
+    let bar = progress_bar(
+        job.window.area() as u64,
+        "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
+    );
+    let Rendered {
+        pixels,
+        wall,
+        stats,
+    } = run(job, &|n| bar.inc(n))?;
     bar.finish_and_clear();
-
-    let dropped: u64 = rendered.pixels.iter().map(|p| p.dropped as u64).sum();
+    let dropped: u64 = pixels.iter().map(|p| p.dropped as u64).sum();
     let film = Film {
-        key: RenderKey::of(&job),
-        window,
-        samples: samples.clone(),
-        pixels: rendered.pixels,
+        key: RenderKey::of(job),
+        window: job.window,
+        samples: job.samples.clone(),
+        pixels,
     };
-    write_film_or_image(&output, &film, args.gamma)?;
-    if let Some(map) = &args.spp_map {
-        // Both files or neither.
-        if let Err(e) = write_spp_map(map, &film) {
-            std::fs::remove_file(&output).ok();
+    plan.write(&film)?;
+    say(&plan.summary(&film));
+    say(&speed_line(job, wall, stats, dropped));
+    match &plan.stats {
+        Some(path) => write_stats(path, &plan, wall, stats, dropped),
+        None => Ok(()),
+    }
+}
+
+/// `strata render` with every flag checked: the job and its files.
+struct RenderPlan<'a> {
+    job: Job<'a>,
+    /// The image or film.
+    output: PathBuf,
+    /// The PNG transfer curve of `output`.
+    gamma: Transfer,
+    /// `--spp-map`.
+    spp_map: Option<PathBuf>,
+    /// `--stats`.
+    stats: Option<PathBuf>,
+}
+
+impl RenderArgs {
+    /// Checks every flag against `scene`, in the order of the messages a
+    /// user meets: the size, the sample counts, the window, the filter,
+    /// the files.
+    fn plan<'a>(&self, scene: &'a SceneData) -> Result<RenderPlan<'a>> {
+        let d = scene.defaults;
+        let width = self.width.unwrap_or(d.width);
+        let height = match self.height {
+            Some(h) => h,
+            None => height_for(scene, width, self.aspect)?,
+        };
+        check_pixels(width, height, 1)?;
+        let (spp, adaptive) = self.sample_counts(d.spp)?;
+        let window = match (self.crop, self.pixel_bounds) {
+            (Some(c), _) => crop_to_window(c, width, height)?,
+            (None, Some(b)) => window_of(b, width, height)?,
+            (None, None) => Tile::whole(width, height),
+        };
+        let filter = self.filter.filter(self.filter_radius)?;
+        let samples = self.samples.clone().unwrap_or(0..spp);
+        if samples.end > spp {
+            bail!(
+                "--samples {}..{} reaches past the {spp} samples per pixel",
+                samples.start,
+                samples.end
+            );
+        }
+        let output = self.output_files(&scene.name)?;
+        let job = Job {
+            window,
+            samples,
+            max_depth: self.max_depth.unwrap_or(d.max_depth),
+            sampler: self.sampler,
+            seed: self.seed,
+            threads: self.threads as usize,
+            tile: self.tile,
+            direct_lighting: !self.no_direct_lighting,
+            bvh: self.bvh,
+            filter,
+            adaptive,
+            texture_filter: self.texture_filter.filter(),
+            ..Job::new(scene, width, height, spp)
+        };
+        Ok(RenderPlan {
+            job,
+            output,
+            gamma: self.gamma,
+            spp_map: self.spp_map.clone(),
+            stats: self.stats.clone(),
+        })
+    }
+
+    /// The sampler's pattern size and the adaptive settings: `--spp` (or
+    /// the scene's), or with `--adaptive` up to `--max-spp`, as the
+    /// pattern then holds every sample a pixel may take.
+    fn sample_counts(&self, scene_spp: u32) -> Result<(u32, Option<Adaptive>)> {
+        let base = self.spp.unwrap_or(scene_spp);
+        let (Some(t), Some(max)) = (self.adaptive, self.max_spp) else {
+            return Ok((base, None));
+        };
+        let adaptive = Adaptive::new(base, max, t).map_err(|e| match e {
+            AdaptiveError::Max => {
+                anyhow!("--max-spp {max} is below the base count {base} (--spp or the scene's)")
+            }
+            e => anyhow!("--adaptive {t} --max-spp {max}: {e}"),
+        })?;
+        if self.sampler == SamplerKind::Grid {
+            bail!(
+                "--adaptive needs a sampler whose first samples spread over the pixel \
+                 (independent, stratified, sobol, halton): the grid fills its rows in order"
+            );
+        }
+        Ok((adaptive.max(), Some(adaptive)))
+    }
+
+    /// The image's name (`-o`, or SCENE.png), with it and `--stats` and
+    /// `--spp-map` checked writable.
+    fn output_files(&self, scene: &str) -> Result<PathBuf> {
+        let output = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{scene}.png")));
+        check_output_or_film(&output)?;
+        if let Some(stats) = &self.stats {
+            check_output_ext(stats, "json", "--stats")?;
+        }
+        if let Some(map) = &self.spp_map {
+            check_output_ext(map, "png", "--spp-map")?;
+            if same_path(map, &output) {
+                bail!("--spp-map `{}` is the image's output", map.display());
+            }
+        }
+        Ok(output)
+    }
+}
+
+impl RenderPlan<'_> {
+    /// Writes the film or image and the spp map: both files or neither.
+    fn write(&self, film: &Film) -> Result<()> {
+        write_film_or_image(&self.output, film, self.gamma)?;
+        if let Some(map) = &self.spp_map
+            && let Err(e) = write_spp_map(map, film)
+        {
+            std::fs::remove_file(&self.output).ok();
             return Err(e);
         }
+        Ok(())
     }
 
-    let secs = rendered.wall.as_secs_f64();
-    let st = rendered.stats;
-    let part = if window == Tile::whole(width, height) && samples == (0..spp) {
-        String::new()
-    } else {
+    /// What was rendered, at what settings, to which file.
+    fn summary(&self, film: &Film) -> String {
+        let job = &self.job;
+        let whole = job.window == Tile::whole(job.width, job.height);
+        let part = if whole && job.samples == (0..job.spp) {
+            String::new()
+        } else {
+            format!(
+                " (pixels {}, samples {})",
+                window_text(job.window),
+                samples_text(&job.samples)
+            )
+        };
+        let spp_text = match job.adaptive {
+            None => format!("{} spp", job.spp),
+            Some(a) => format!(
+                "adaptive {}..{} spp at {} ({})",
+                a.base(),
+                a.max(),
+                a.threshold(),
+                spp_summary(film)
+            ),
+        };
         format!(
-            " (pixels {}, samples {})",
-            window_text(window),
-            samples_text(&samples)
+            "{}: {}x{} {spp_text} ({}, seed {}), depth {}{part}, to {}",
+            job.scene.name,
+            job.width,
+            job.height,
+            job.sampler.name(),
+            job.seed,
+            job.max_depth,
+            self.output.display()
         )
-    };
-    let spp_text = match adaptive {
-        None => format!("{spp} spp"),
-        Some(a) => format!(
-            "adaptive {}..{} spp at {} ({})",
-            a.base(),
-            a.max(),
-            a.threshold(),
-            spp_summary(&film)
-        ),
-    };
-    say(&format!(
-        "{}: {}x{} {spp_text} ({}, seed {}), depth {}{part}, to {}",
-        scene.name,
-        width,
-        height,
-        args.sampler.name(),
-        args.seed,
-        max_depth,
-        output.display()
-    ));
-    say(&format!(
+    }
+}
+
+/// How fast the render ran, and the samples it dropped.
+fn speed_line(job: &Job<'_>, wall: Duration, st: TileStats, dropped: u64) -> String {
+    let secs = wall.as_secs_f64();
+    format!(
         "{:.3} s on {} threads ({}): {:.2} M samples/s, {:.2} M rays/s{}",
         secs,
-        args.threads,
+        job.threads,
         strata::trace::simd_level().name(),
         st.paths as f64 / secs.max(1e-9) / 1e6,
         (st.rays + st.shadow_rays) as f64 / secs.max(1e-9) / 1e6,
@@ -189,27 +224,34 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         } else {
             String::new()
         }
-    ));
-    if let Some(path) = &args.stats {
-        let facts = serde_json::json!({
-            "scene": scene.name,
-            "output": output.display().to_string(),
-            "threads": args.threads,
-            "tile": args.tile,
-            "simd": strata::trace::simd_level().name(),
-            "wall_seconds": secs,
-            "camera_paths": st.paths,
-            "rays": st.rays,
-            "shadow_rays": st.shadow_rays,
-            "dropped_samples": dropped,
-            "bvh": scene.use_bvh(args.bvh),
-            "version": crate::film::version(),
-        });
-        let text = serde_json::to_string_pretty(&facts)? + "\n";
-        write_atomic(path, |tmp| Ok(std::fs::write(tmp, &text)?))
-            .with_context(|| format!("writing `{}`", path.display()))?;
-    }
-    Ok(())
+    )
+}
+
+/// Writes the run facts of `--stats` as JSON.
+fn write_stats(
+    path: &Path,
+    plan: &RenderPlan<'_>,
+    wall: Duration,
+    st: TileStats,
+    dropped: u64,
+) -> Result<()> {
+    let job = &plan.job;
+    let scene = job.scene;
+    let facts = serde_json::json!({
+        "scene": scene.name,
+        "output": plan.output.display().to_string(),
+        "threads": job.threads,
+        "tile": job.tile,
+        "simd": strata::trace::simd_level().name(),
+        "wall_seconds": wall.as_secs_f64(),
+        "camera_paths": st.paths,
+        "rays": st.rays,
+        "shadow_rays": st.shadow_rays,
+        "dropped_samples": dropped,
+        "bvh": scene.use_bvh(job.bvh),
+        "version": crate::film::version(),
+    });
+    write_text(path, &(serde_json::to_string_pretty(&facts)? + "\n"))
 }
 
 /// The pixel window of a `--crop` in a `width × height` image: pbrt's

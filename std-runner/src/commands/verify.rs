@@ -3,12 +3,12 @@
 use anyhow::{Result, bail};
 
 use crate::cli::VerifyArgs;
+use crate::golden;
 use crate::image_io::say;
 
 /// Runs `strata verify`: one line per row of the golden table (renders,
 /// scene hashes, file bytes), and an error if any differs.
 pub fn verify(args: &VerifyArgs) -> Result<()> {
-    use crate::golden;
     say(&format!(
         "{}: golden rows (renders {}x{}, {} spp, seed {}, depth {}; scene hashes; file bytes)",
         crate::version_line(),

@@ -30,7 +30,8 @@
 //! never the samples.
 
 //!
-//! Here: [`Film`]. In `key`: the [`RenderKey`] and the header's texts. In
+//! Here: [`Film`] and the file it becomes (a `.film`, or its window as an
+//! image). In `key`: the [`RenderKey`] and the header's texts. In
 //! `format`: the bytes. In `merge`: [`merge()`] and its checks.
 
 mod format;
@@ -40,8 +41,12 @@ mod merge;
 mod tests;
 
 use std::ops::Range;
+use std::path::Path;
 
+use anyhow::Result;
 use strata::render::{PixelSum, Tile};
+
+use crate::image_io::{ImageFormat, Transfer, image_bytes};
 
 pub use format::{BYTES_PER_PIXEL, MAGIC};
 pub use key::{
@@ -64,10 +69,11 @@ pub struct Film {
 }
 
 impl Film {
-    /// The image metadata of this film (PNG text chunks, EXR attributes):
-    /// what defines it, nothing that varies between runs.
+    /// The image metadata of this film encoded with `transfer` (PNG text
+    /// chunks, EXR attributes): what defines it, nothing that varies
+    /// between runs.
     #[must_use]
-    pub fn metadata(&self, transfer: &str) -> Vec<(String, String)> {
+    pub fn metadata(&self, transfer: Transfer) -> Vec<(String, String)> {
         let mut out = vec![(
             "Software".to_string(),
             format!("strata {}", env!("CARGO_PKG_VERSION")),
@@ -77,7 +83,37 @@ impl Film {
         }
         out.push(("strata.window".into(), window_text(self.window)));
         out.push(("strata.samples".into(), samples_text(&self.samples)));
-        out.push(("strata.transfer".into(), transfer.into()));
+        out.push(("strata.transfer".into(), transfer.name().into()));
         out
     }
+
+    /// The bytes `strata render -o path` writes for this film: the .film
+    /// file, or its window as a PNG or EXR image with the film's metadata.
+    pub fn output_bytes(&self, path: &Path, transfer: Transfer) -> Result<Vec<u8>> {
+        if is_film_path(path) {
+            return Ok(self.to_bytes());
+        }
+        let format = ImageFormat::of(path).ok_or_else(|| {
+            anyhow::anyhow!(
+                "output `{}` must end in .png, .exr or .film",
+                path.display()
+            )
+        })?;
+        let pixels: Vec<glam::Vec3> = self.pixels.iter().map(|p| p.mean()).collect();
+        image_bytes(
+            format,
+            self.window.width,
+            self.window.height,
+            &pixels,
+            transfer,
+            &self.metadata(transfer),
+        )
+    }
+}
+
+/// Whether `path` names a `.film` (in any case).
+#[must_use]
+pub fn is_film_path(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("film"))
 }

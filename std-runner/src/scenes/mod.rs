@@ -4,11 +4,10 @@
 //! `geometry.rs`), the scene hash in `hash.rs`, scene files in
 //! [`file`](mod@file).
 
-use glam::Vec3;
 use strata::render::{
     Background, CameraDesc, ImageTexture, Material, Scene, SceneStorage, SceneStorageSize, Texture,
 };
-use strata::trace::{Bvh, BvhError, BvhNode8, BvhStorage, Sphere, SphereChunk8, SphereSet};
+use strata::trace::{Bvh, BvhNode8, BvhStorage, Sphere, SphereChunk8, SphereSet};
 
 mod builtin;
 pub mod file;
@@ -20,6 +19,10 @@ pub use builtin::{
 };
 pub use geometry::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres};
 
+// Image textures are scene data; the type lives with the PNG decoder that
+// makes them.
+pub use crate::image_io::Image;
+
 /// The sphere count from which the runner traces a scene through a BVH.
 /// On the course's 4 spheres the brute-force 8-wide loop is faster and on
 /// the cover's 485 the BVH is (`strata bench`); 16 (two 8-wide chunks) is
@@ -27,22 +30,12 @@ pub use geometry::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres}
 /// changes a pixel.
 pub const BVH_THRESHOLD: usize = 16;
 
-/// An image texture's texels, linear RGB, row 0 at the top.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Image {
-    /// Columns.
-    pub width: u32,
-    /// Rows.
-    pub height: u32,
-    /// `width × height` linear RGB values, row-major.
-    pub texels: Vec<Vec3>,
-}
-
 /// Whether a scene is traced through a BVH (it never changes a pixel).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum BvhMode {
     /// From [`BVH_THRESHOLD`] spheres.
     #[default]
+    #[value(help = format!("From {BVH_THRESHOLD} spheres"))]
     Auto,
     /// Always.
     On,
@@ -184,7 +177,9 @@ impl SceneBuffers {
     }
 
     /// The spheres' 8-wide set and, if the buffers have room for one,
-    /// their BVH, for tracing without a scene (benchmarks, tests).
+    /// their BVH, for tracing without a scene (benchmarks, tests). Spheres
+    /// the BVH cannot hold are an error: a benchmark layout must be within
+    /// its range, or it would time the brute-force loop as the BVH.
     pub fn trace<'a>(
         &'a mut self,
         spheres: &[Sphere],
@@ -193,12 +188,8 @@ impl SceneBuffers {
         if self.nodes.is_empty() {
             return Ok((set, None));
         }
-        // As in `Scene::build`: spheres the BVH cannot hold give no BVH.
-        match Bvh::build(spheres, &mut self.nodes, &mut self.lanes, &mut self.ids) {
-            Ok(bvh) => Ok((set, Some(bvh))),
-            Err(BvhError::SphereOutOfRange { .. } | BvhError::TooManySpheres) => Ok((set, None)),
-            Err(e) => Err(e.into()),
-        }
+        let bvh = Bvh::build(spheres, &mut self.nodes, &mut self.lanes, &mut self.ids)?;
+        Ok((set, Some(bvh)))
     }
 }
 
@@ -253,6 +244,8 @@ impl SceneData {
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
 
     #[test]

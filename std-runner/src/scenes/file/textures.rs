@@ -10,8 +10,7 @@ use strata::render::Texture;
 use toml::Spanned;
 
 use super::{SceneFileError, Source};
-use crate::image_io::read_png_linear;
-use crate::scenes::Image;
+use crate::image_io::{Image, read_png_linear};
 
 /// `[textures.NAME]` as written.
 #[derive(Deserialize)]
