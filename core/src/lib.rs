@@ -63,14 +63,19 @@
 //! ```
 //! use glam::{UVec2, Vec3};
 //! use strata::render::*;
-//! use strata::trace::{Sphere, SphereChunk8, SphereSet};
+//! use strata::trace::{Sphere, SphereChunk8};
 //! use strata::Independent;
 //!
 //! let spheres = [Sphere::new(Vec3::ZERO, 1.0)];
-//! let mut chunks = [SphereChunk8::EMPTY; 1];
-//! let set = SphereSet::build(&spheres, &mut chunks).unwrap();
 //! let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) }];
-//! let scene = Scene::new(&spheres, set, &materials, &[0], &[], Background::Flat(Vec3::ONE)).unwrap();
+//! // One sphere, too few for a BVH to pay.
+//! const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(1, false);
+//! let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
+//! let storage = SceneStorage {
+//!     chunks: &mut chunks, lights: &mut lights,
+//!     bvh_nodes: &mut [], bvh_lanes: &mut [], bvh_ids: &mut [],
+//! };
+//! let scene = Scene::build(&spheres, &materials, &[0], Background::Flat(Vec3::ONE), storage).unwrap();
 //! let camera = Camera::new(
 //!     &CameraDesc {
 //!         look_from: Vec3::new(0.0, 0.0, 4.0), look_at: Vec3::ZERO, up: Vec3::Y,

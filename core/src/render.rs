@@ -35,7 +35,7 @@ pub use crate::filter::PixelFilter;
 pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PixelError};
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum};
-pub use integrator::{RenderSettings, pixel_sample};
+pub use integrator::{RenderSettings, pixel_sample, pixel_sample_with};
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};

@@ -31,8 +31,7 @@
 //!   spheres: [`Bvh`] and its queries, [`BvhStack`] (reusable traversal
 //!   memory), [`BvhNode8`] and [`BvhStorage`] (caller storage, sized by
 //!   [`bvh_storage_for`]), [`BvhError`], and its limits
-//!   [`BVH_MAX_SPHERES`], [`BVH_MAX_COORDINATE`], [`BVH_MAX_DEPTH`] and
-//!   the box slack [`BVH_SLACK_ULPS`].
+//!   [`BVH_MAX_SPHERES`], [`BVH_MAX_COORDINATE`] and [`BVH_MAX_DEPTH`].
 //! - The build's SIMD level: [`simd_level`], [`SimdLevel`].
 //!
 //! # The same bits on every path
@@ -95,8 +94,8 @@ mod lanes;
 mod packet;
 
 pub use bvh::{
-    BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8,
-    BvhStack, BvhStorage, bvh_storage_for,
+    BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, Bvh, BvhError, BvhNode8, BvhStack,
+    BvhStorage, bvh_storage_for,
 };
 use lanes::Lanes;
 pub use packet::{

@@ -1,10 +1,12 @@
-//! The core's errors as a caller sees them: readable, chainable, and
-//! usable with `?` in any error type built on `core::error::Error`.
+//! The core's errors as a caller sees them: readable on their own (an
+//! inner error's text is part of the outer message, never a separate
+//! `source`), and usable with `?` in any error type built on
+//! `core::error::Error`.
 
 /// Every core error reads as a sentence (`Display`) and is a
 /// `core::error::Error` (so `?` lifts it into `anyhow` and `Box<dyn Error>`).
 #[test]
-fn core_errors_display_and_chain() {
+fn core_errors_read_as_one_sentence() {
     use std::error::Error;
     use strata::render::{AdaptiveError, CameraError, MaterialError, RenderError, SceneError};
     let errors: Vec<Box<dyn Error>> = vec![

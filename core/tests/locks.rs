@@ -140,7 +140,9 @@ fn sampler_lock() {
     );
 }
 
-/// FNV-1a over 32-bit words.
+/// FNV-1a over 32-bit words. Its own copy: this test belongs to the core
+/// package, which cannot depend on the runner (the runner depends on it),
+/// and the runner's `hash.rs` is the one FNV-1a everywhere else.
 fn fnv(words: impl IntoIterator<Item = u32>) -> u64 {
     words.into_iter().fold(0xcbf2_9ce4_8422_2325u64, |h, w| {
         w.to_le_bytes()

@@ -10,8 +10,8 @@ use glam::Vec3;
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 use strata::trace::{
-    BVH_MAX_DEPTH, BVH_SLACK_ULPS, Bvh, BvhError, BvhNode8, BvhStack, HitPacket8, Ray, RayPacket8,
-    Sphere, any_hit, bvh_storage_for, closest_hit, intersect_sphere,
+    BVH_MAX_DEPTH, Bvh, BvhError, BvhNode8, BvhStack, HitPacket8, Ray, RayPacket8, Sphere, any_hit,
+    bvh_storage_for, closest_hit,
 };
 
 fn uniform(rng: &mut Pcg32) -> f32 {
@@ -265,44 +265,6 @@ fn ties_go_to_the_lowest_index() {
         &mut hits,
     );
     assert_eq!(hits.hit(0).unwrap().sphere, 3);
-}
-
-/// The kernel's hit point stays within the slack the boxes are padded
-/// by, with a margin of 4 (the assumption that makes the BVH exact).
-#[test]
-fn kernel_hit_points_stay_within_the_box_slack() {
-    let mut rng = Pcg32::new(3, 1);
-    let mut worst = 0.0f64;
-    for k in 0..2_000_000u32 {
-        let r = match k % 3 {
-            0 => range(&mut rng, 0.01, 1.0),
-            1 => range(&mut rng, 1.0, 1000.0),
-            _ => range(&mut rng, 1e-4, 0.01),
-        };
-        let scale = [1.0f32, 100.0, 10_000.0][(k / 3 % 3) as usize];
-        let c = Vec3::new(
-            range(&mut rng, -scale, scale),
-            range(&mut rng, -scale, scale),
-            range(&mut rng, -scale, scale),
-        );
-        let s = Sphere::new(c, r);
-        let d = unit(&mut rng);
-        let side = d.any_orthonormal_vector();
-        let nudge = 1.0 + range(&mut rng, -64.0, 64.0) * f32::EPSILON;
-        let dist = range(&mut rng, 0.0, 4.0) * (r + scale);
-        let o = c + side * r * nudge - d * dist;
-        let ray = Ray::new(o, d);
-        if let Some(t) = intersect_sphere(&s, &ray) {
-            let p = o.as_dvec3() + d.as_dvec3() * t as f64;
-            let excess = (p - c.as_dvec3()).length() - r as f64;
-            let l1 = |v: Vec3| (v.x.abs() + v.y.abs() + v.z.abs()) as f64;
-            let slack =
-                BVH_SLACK_ULPS as f64 * f32::EPSILON as f64 / 2.0 * (l1(o) + l1(c) + r as f64);
-            worst = worst.max(excess / slack);
-        }
-    }
-    println!("worst hit-point excess: {worst:.4} of the slack");
-    assert!(worst < 0.25, "hit points reach {worst} of the box slack");
 }
 
 #[test]

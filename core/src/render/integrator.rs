@@ -136,18 +136,18 @@ fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
     }
 }
 
-/// What one thread's tracing reuses and counts: the BVH traversal stack
-/// (cleared once, not per ray) and the tile's statistics.
-pub(crate) struct Scratch {
-    pub(crate) stack: BvhStack,
+/// What one thread's tracing reuses and counts: the caller's BVH
+/// traversal stack (cleared once, not per ray) and the statistics.
+pub(crate) struct Scratch<'s> {
+    pub(crate) stack: &'s mut BvhStack,
     pub(crate) stats: TileStats,
 }
 
-impl Scratch {
+impl<'s> Scratch<'s> {
     #[inline(always)]
-    pub(crate) fn new() -> Self {
+    pub(crate) fn new(stack: &'s mut BvhStack) -> Self {
         Self {
-            stack: BvhStack::new(),
+            stack,
             stats: TileStats::default(),
         }
     }
@@ -158,7 +158,7 @@ impl Scratch {
 #[inline]
 fn direct_light(
     scene: &Scene<'_>,
-    scratch: &mut Scratch,
+    scratch: &mut Scratch<'_>,
     ray: &Ray,
     hit: Hit,
     surf: &SurfaceHit,
@@ -187,7 +187,7 @@ fn direct_light(
         return Vec3::ZERO; // grazed the rim by rounding
     };
     scratch.stats.shadow_rays += 1;
-    if scene.any_hit_with(&shadow.with_range(0.0, t_light), &mut scratch.stack) {
+    if scene.any_hit_with(&shadow.with_range(0.0, t_light), scratch.stack) {
         return Vec3::ZERO;
     }
     let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
@@ -202,7 +202,7 @@ fn direct_light(
 #[inline(always)]
 pub(crate) fn trace_path<S: Sampler>(
     scene: &Scene<'_>,
-    scratch: &mut Scratch,
+    scratch: &mut Scratch<'_>,
     sampler: &mut S,
     settings: &RenderSettings,
     mut ray: Ray,
@@ -220,7 +220,7 @@ pub(crate) fn trace_path<S: Sampler>(
     for segment in 1..=settings.max_depth {
         scratch.stats.rays += 1;
         if segment > 1 {
-            hit = scene.closest_hit_with(&ray, &mut scratch.stack);
+            hit = scene.closest_hit_with(&ray, scratch.stack);
         }
         let Some(h) = hit else {
             radiance += throughput * scene.background().radiance(ray.dir);
@@ -335,17 +335,25 @@ pub(crate) fn camera_ray<S: Sampler>(
 /// weight, one ray at a time: the reference that [`render_tile`](super::render_tile) must
 /// equal bit for bit (it adds them with [`PixelSum::add_weighted`](super::PixelSum::add_weighted)).
 ///
+/// Each call makes and zeroes its own [`BvhStack`] (about 3.6 KB); to
+/// trace many samples, keep one stack and call [`pixel_sample_with`],
+/// which gives the same bits.
+///
 /// ```
 /// use glam::{UVec2, Vec3};
 /// use strata::render::*;
-/// use strata::trace::{Sphere, SphereChunk8, SphereSet};
+/// use strata::trace::{Sphere, SphereChunk8};
 /// use strata::Independent;
 /// // A white furnace: a white diffuse sphere under a sky of radiance 1.
 /// let spheres = [Sphere::new(Vec3::ZERO, 1.0)];
-/// let mut storage = [SphereChunk8::EMPTY; 1];
-/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
 /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) }];
-/// let scene = Scene::new(&spheres, set, &materials, &[0], &[], Background::Flat(Vec3::ONE)).unwrap();
+/// const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(1, false);
+/// let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
+/// let storage = SceneStorage {
+///     chunks: &mut chunks, lights: &mut lights,
+///     bvh_nodes: &mut [], bvh_lanes: &mut [], bvh_ids: &mut [],
+/// };
+/// let scene = Scene::build(&spheres, &materials, &[0], Background::Flat(Vec3::ONE), storage).unwrap();
 /// let desc = CameraDesc {
 ///     look_from: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y,
 ///     vfov_deg: 30.0, defocus_angle_deg: 0.0, focus_dist: 5.0,
@@ -367,10 +375,69 @@ pub fn pixel_sample<S: Sampler>(
     pixel: UVec2,
     index: u32,
 ) -> (Vec3, f32) {
+    let mut stack = BvhStack::new();
+    pixel_sample_with(scene, camera, sampler, settings, pixel, index, &mut stack)
+}
+
+/// [`pixel_sample`] on the caller's reusable `stack`: the same bits,
+/// without zeroing a stack per sample. One stack serves any number of
+/// calls, scenes and threads in turn (see [`BvhStack`]).
+///
+/// ```
+/// use glam::{UVec2, Vec3};
+/// use strata::render::*;
+/// use strata::trace::{BvhNode8, BvhStack, BvhStorage, Sphere, SphereChunk8};
+/// use strata::Independent;
+/// // A row of diffuse spheres, one of them a light, traced through a BVH.
+/// let spheres: [Sphere; 20] =
+///     core::array::from_fn(|i| Sphere::new(Vec3::new(i as f32 - 10.0, 0.0, 0.0), 0.45));
+/// let materials = [
+///     Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) },
+///     Material::DiffuseLight { emit: Vec3::splat(4.0) },
+/// ];
+/// let sphere_material: [u32; 20] = core::array::from_fn(|i| (i == 9) as u32);
+/// const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(20, true);
+/// const BVH: BvhStorage = SIZE.bvh.unwrap();
+/// let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
+/// let (mut nodes, mut lanes, mut ids) =
+///     ([BvhNode8::EMPTY; BVH.nodes], [0.0; BVH.lanes], [0u32; BVH.ids]);
+/// let storage = SceneStorage {
+///     chunks: &mut chunks, lights: &mut lights,
+///     bvh_nodes: &mut nodes, bvh_lanes: &mut lanes, bvh_ids: &mut ids,
+/// };
+/// let sky = Background::Flat(Vec3::splat(0.2));
+/// let scene = Scene::build(&spheres, &materials, &sphere_material, sky, storage).unwrap();
+/// assert!(scene.has_bvh());
+/// let desc = CameraDesc {
+///     look_from: Vec3::new(0.0, 2.0, 12.0), look_at: Vec3::ZERO, up: Vec3::Y,
+///     vfov_deg: 60.0, defocus_angle_deg: 0.0, focus_dist: 12.0,
+/// };
+/// let camera = Camera::new(&desc, 16, 8).unwrap();
+/// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX,
+///     texture_filter: TextureFilter::None };
+/// let mut sampler = Independent::new(4, 3).unwrap();
+/// let mut stack = BvhStack::new(); // zeroed once, reused for every sample
+/// for i in 0..4 {
+///     let pixel = UVec2::new(3 + i, 4);
+///     let (l, w) = pixel_sample_with(&scene, &camera, &mut sampler, &settings, pixel, i, &mut stack);
+///     let (l0, w0) = pixel_sample(&scene, &camera, &mut sampler, &settings, pixel, i);
+///     assert_eq!((l.to_array().map(f32::to_bits), w), (l0.to_array().map(f32::to_bits), w0));
+/// }
+/// ```
+#[inline]
+pub fn pixel_sample_with<S: Sampler>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &mut S,
+    settings: &RenderSettings,
+    pixel: UVec2,
+    index: u32,
+    stack: &mut BvhStack,
+) -> (Vec3, f32) {
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     let c = camera_ray(camera, &settings.filter, spacing, sampler, pixel, index);
-    let mut scratch = Scratch::new();
-    let first = scene.closest_hit_with(&c.ray, &mut scratch.stack);
+    let mut scratch = Scratch::new(stack);
+    let first = scene.closest_hit_with(&c.ray, scratch.stack);
     let l = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, c.diff);
     (l, c.weight)
 }

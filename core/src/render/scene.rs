@@ -173,13 +173,25 @@ pub struct SceneStorageSize {
 impl SceneStorageSize {
     /// The sizes for `n` spheres, with room for a BVH if `bvh` (it pays
     /// for itself from about 16 spheres; it never changes a hit).
+    /// A `const fn`, so storage without an allocator can be sized by it:
+    ///
+    /// ```
+    /// use strata::render::SceneStorageSize;
+    /// use strata::trace::{BvhNode8, SphereChunk8};
+    /// const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(20, true);
+    /// const BVH: strata::trace::BvhStorage = SIZE.bvh.unwrap();
+    /// let chunks = [SphereChunk8::EMPTY; SIZE.chunks];
+    /// let nodes = [BvhNode8::EMPTY; BVH.nodes];
+    /// assert_eq!((chunks.len(), nodes.len(), BVH.ids), (3, 4, 27));
+    /// ```
     #[inline]
     #[must_use]
-    pub fn for_spheres(n: usize, bvh: bool) -> Self {
+    pub const fn for_spheres(n: usize, bvh: bool) -> Self {
         Self {
             chunks: chunks_for(n),
             lights: n,
-            bvh: bvh.then(|| bvh_storage_for(n)),
+            // `bool::then` is not const.
+            bvh: if bvh { Some(bvh_storage_for(n)) } else { None },
         }
     }
 }
@@ -213,10 +225,9 @@ impl<'a> Scene<'a> {
     /// use strata::trace::{Ray, Sphere, SphereChunk8};
     /// let spheres = [Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0)];
     /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) }];
-    /// let size = SceneStorageSize::for_spheres(spheres.len(), false);
-    /// let mut chunks = [SphereChunk8::EMPTY; 1];
-    /// let mut lights = [0u32; 1];
-    /// assert_eq!((size.chunks, size.lights), (chunks.len(), lights.len()));
+    /// // Sized at compile time: no allocator needed.
+    /// const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(1, false);
+    /// let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
     /// let storage = SceneStorage {
     ///     chunks: &mut chunks,
     ///     lights: &mut lights,

@@ -11,7 +11,7 @@ use super::film::PixelSum;
 use super::integrator::{Scratch, camera_ray, differential_spacing, trace_path};
 use super::scene::Scene;
 use crate::sampler::Sampler;
-use crate::trace::{HitPacket8, Ray, RayPacket8};
+use crate::trace::{BvhStack, HitPacket8, Ray, RayPacket8};
 use core::ops::Range;
 use glam::{UVec2, Vec3};
 
@@ -152,10 +152,10 @@ fn check_tile(
 
 /// Up to 8 neighbouring pixels of a row, traced together: lane `l` is
 /// pixel `first + (l, 0)`, with its sampler and its film entry.
-struct Group<'a, 's, S> {
+struct Group<'a, 's, 'k, S> {
     scene: &'a Scene<'s>,
     /// The tile's traversal stack and counts.
-    scratch: &'a mut Scratch,
+    scratch: &'a mut Scratch<'k>,
     camera: &'a Camera,
     settings: &'a RenderSettings,
     first: UVec2,
@@ -165,7 +165,7 @@ struct Group<'a, 's, S> {
     film: &'a mut [PixelSum],
 }
 
-impl<S: Sampler> Group<'_, '_, S> {
+impl<S: Sampler> Group<'_, '_, '_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
     /// rays as one packet (one by one for two lanes or fewer, where a
     /// packet costs as much as eight), and adds each value to its pixel and, when
@@ -197,14 +197,14 @@ impl<S: Sampler> Group<'_, '_, S> {
             scene.closest_hit_x8_with(
                 &RayPacket8::from_rays(&rays[..ids.len()]),
                 &mut hits,
-                &mut self.scratch.stack,
+                self.scratch.stack,
             );
             for (k, f) in first.iter_mut().enumerate().take(ids.len()) {
                 *f = hits.hit(k);
             }
         } else {
             for (f, r) in first.iter_mut().zip(&rays[..ids.len()]) {
-                *f = scene.closest_hit_with(r, &mut self.scratch.stack);
+                *f = scene.closest_hit_with(r, self.scratch.stack);
             }
         }
         for (k, &l) in ids.iter().enumerate() {
@@ -273,11 +273,12 @@ fn for_each_group<S: Sampler + Clone>(
     settings: &RenderSettings,
     tile: Tile,
     film: &mut [PixelSum],
-    mut f: impl FnMut(&mut Group<'_, '_, S>, usize),
+    mut f: impl FnMut(&mut Group<'_, '_, '_, S>, usize),
 ) -> TileStats {
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     // Zeroed once per tile, not per ray.
-    let mut scratch = Scratch::new();
+    let mut stack = BvhStack::new();
+    let mut scratch = Scratch::new(&mut stack);
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
     for row in 0..tile.height {
         let mut col = 0;
@@ -320,18 +321,22 @@ fn for_each_group<S: Sampler + Clone>(
 /// ```
 /// use glam::{UVec2, Vec3};
 /// use strata::render::*;
-/// use strata::trace::{Sphere, SphereChunk8, SphereSet};
+/// use strata::trace::{Sphere, SphereChunk8};
 /// use strata::Independent;
 /// // A diffuse sphere on a diffuse ground under a flat white sky.
 /// let spheres = [
 ///     Sphere::new(Vec3::new(-1.0, 0.0, 0.0), 1.0),
 ///     Sphere::new(Vec3::new(0.0, -101.0, 0.0), 100.0),
 /// ];
-/// let mut storage = [SphereChunk8::EMPTY; 1];
-/// let set = SphereSet::build(&spheres, &mut storage).unwrap();
 /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::splat(0.5)) }];
+/// const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(2, false);
+/// let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
+/// let storage = SceneStorage {
+///     chunks: &mut chunks, lights: &mut lights,
+///     bvh_nodes: &mut [], bvh_lanes: &mut [], bvh_ids: &mut [],
+/// };
 /// let sky = Background::Flat(Vec3::ONE);
-/// let scene = Scene::new(&spheres, set, &materials, &[0, 0], &[], sky).unwrap();
+/// let scene = Scene::build(&spheres, &materials, &[0, 0], sky, storage).unwrap();
 /// let desc = CameraDesc {
 ///     look_from: Vec3::new(0.0, 0.0, 5.0), look_at: Vec3::ZERO, up: Vec3::Y,
 ///     vfov_deg: 40.0, defocus_angle_deg: 0.0, focus_dist: 5.0,

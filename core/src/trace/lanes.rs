@@ -1,14 +1,17 @@
-//! The one module that imports `wide`, and the lane abstraction that lets
-//! a kernel be written once for `f32` and for `f32x8`.
+//! The one place that names `wide`'s methods, and the lane abstraction
+//! that lets a kernel be written once for `f32` and for `f32x8`.
 //!
 //! The two SIMD modules, `packet` (sphere chunks, ray and hit packets, the
 //! brute-force 8-wide kernels) and `bvh` (node boxes, slab tests, packet
-//! traversal), take `f32x8` and `i32x8` from here and use their
-//! constructors, array conversions, and arithmetic, bitwise and comparison
-//! operators directly: those are exact per lane on every SIMD level. Whatever reinterprets
-//! bits or selects by a mask is wrapped here instead, where the mask
-//! convention (all ones or all zeros per lane) is kept in one place; and
-//! `clippy.toml` bans `wide`'s fused and approximate operations everywhere.
+//! traversal), take `f32x8` and `i32x8` from here. They build and read
+//! them (`ZERO`, `splat`, `new`, `to_array`, `as_array`) and use the
+//! arithmetic and bitwise operators; every comparison, select, bitmask
+//! and bit cast goes through the wrappers below, because `wide` has
+//! renamed exactly those between versions (`cmp_lt` became `simd_lt` in
+//! 1.5, `blend` gave way to `select`), and here a rename is one edit. The
+//! mask convention (all ones or all zeros per lane) is kept here too;
+//! `clippy.toml` bans `wide`'s fused and approximate operations
+//! everywhere.
 //!
 //! A kernel generic over [`Lanes`] performs the same IEEE operations in the
 //! same order for one lane and for eight, so the scalar reference and its
@@ -94,15 +97,15 @@ impl Lanes for f32x8 {
     }
     #[inline(always)]
     fn lt(self, rhs: Self) -> f32x8 {
-        self.simd_lt(rhs)
+        lanes_lt(self, rhs)
     }
     #[inline(always)]
     fn gt(self, rhs: Self) -> f32x8 {
-        self.simd_gt(rhs)
+        lanes_gt(self, rhs)
     }
     #[inline(always)]
     fn ge(self, rhs: Self) -> f32x8 {
-        self.simd_ge(rhs)
+        lanes_ge(self, rhs)
     }
     #[inline(always)]
     fn and(a: f32x8, b: f32x8) -> f32x8 {
@@ -110,12 +113,55 @@ impl Lanes for f32x8 {
     }
     #[inline(always)]
     fn any(mask: f32x8) -> bool {
-        mask.to_bitmask() != 0
+        lanes_bitmask(mask) != 0
     }
     #[inline(always)]
     fn select(mask: f32x8, a: Self, b: Self) -> Self {
         lanes_select(mask, a, b)
     }
+}
+
+/// `a < b` per lane: a mask, unset where either side is NaN.
+#[inline(always)]
+pub(crate) fn lanes_lt(a: f32x8, b: f32x8) -> f32x8 {
+    a.simd_lt(b)
+}
+
+/// `a <= b` per lane: a mask, unset where either side is NaN.
+#[inline(always)]
+pub(crate) fn lanes_le(a: f32x8, b: f32x8) -> f32x8 {
+    a.simd_le(b)
+}
+
+/// `a > b` per lane: a mask, unset where either side is NaN.
+#[inline(always)]
+pub(crate) fn lanes_gt(a: f32x8, b: f32x8) -> f32x8 {
+    a.simd_gt(b)
+}
+
+/// `a >= b` per lane: a mask, unset where either side is NaN.
+#[inline(always)]
+pub(crate) fn lanes_ge(a: f32x8, b: f32x8) -> f32x8 {
+    a.simd_ge(b)
+}
+
+/// `a == b` per lane: a mask, unset where either side is NaN (`-0.0`
+/// equals `0.0`).
+#[inline(always)]
+pub(crate) fn lanes_eq(a: f32x8, b: f32x8) -> f32x8 {
+    a.simd_eq(b)
+}
+
+/// `a < b` per integer lane: an integer-lane mask.
+#[inline(always)]
+pub(crate) fn lanes_lt_i32(a: i32x8, b: i32x8) -> i32x8 {
+    a.simd_lt(b)
+}
+
+/// `a == b` per integer lane: an integer-lane mask.
+#[inline(always)]
+pub(crate) fn lanes_eq_i32(a: i32x8, b: i32x8) -> i32x8 {
+    a.simd_eq(b)
 }
 
 /// `if mask { a } else { b }` per lane of an `f32x8`.
@@ -160,7 +206,7 @@ pub(crate) fn mask_from_i32(mask: i32x8) -> f32x8 {
 #[inline(always)]
 pub(crate) fn mask_sign(v: f32x8) -> f32x8 {
     let bits: i32x8 = wide::bytemuck::cast(v);
-    mask_from_i32(bits.simd_lt(i32x8::splat(0)))
+    mask_from_i32(lanes_lt_i32(bits, i32x8::splat(0)))
 }
 
 /// `|v|` per lane by clearing the sign bit: exact on every level.

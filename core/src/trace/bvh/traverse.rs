@@ -5,8 +5,8 @@
 
 use super::{BVH_MAX_DEPTH, Bvh, BvhNode8, LEAF_BIT, SLACK};
 use crate::trace::lanes::{
-    f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits,
-    mask_from_i32, mask_sign,
+    f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt, lanes_le, lanes_lt,
+    lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits, mask_from_i32, mask_sign,
 };
 use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t};
 
@@ -18,7 +18,7 @@ const STACK: usize = 7 * BVH_MAX_DEPTH as usize + 1;
 /// per tile) and pass it to the `_with` queries. It is zeroed once, when
 /// made; queries only read entries they wrote, so it is never cleared
 /// again (the queries without `_with` clear a fresh stack of their own,
-/// 0.7–3.6 KB, on every call).
+/// 0.7–2.9 KB, on every call).
 ///
 /// ```
 /// use glam::Vec3;
@@ -112,7 +112,7 @@ impl SlabRay {
             f32x8::splat(t_far),
         );
         let used = (1u32 << n.count) - 1;
-        (lanes_bitmask(tn.simd_le(tf)) & used, tn)
+        (lanes_bitmask(lanes_le(tn, tf)) & used, tn)
     }
 }
 
@@ -133,11 +133,11 @@ fn slabs(
     for k in 0..3 {
         let t0 = (bmin[k] - lo[k]) * inv[k];
         let t1 = (bmax[k] - hi[k]) * inv[k];
-        let first = t0.simd_lt(t1);
+        let first = lanes_lt(t0, t1);
         let near = lanes_select(first, t0, t1);
         let far = lanes_select(first, t1, t0);
-        tn = lanes_select(near.simd_gt(tn), near, tn);
-        tf = lanes_select(far.simd_lt(tf), far, tf);
+        tn = lanes_select(lanes_gt(near, tn), near, tn);
+        tf = lanes_select(lanes_lt(far, tf), far, tf);
     }
     (tn, tf)
 }
@@ -168,7 +168,7 @@ impl Bvh<'_> {
             f32x8::splat(ray.t_min),
             f32x8::splat(ray.t_max),
         );
-        let used = f32x8::new(LANE_INDEX).simd_lt(f32x8::splat(count as f32));
+        let used = lanes_lt(f32x8::new(LANE_INDEX), f32x8::splat(count as f32));
         lanes_select(used, t, f32x8::splat(f32::INFINITY))
     }
 
@@ -280,7 +280,7 @@ impl Bvh<'_> {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
                 let t = self.leaf_t(start, count, ray);
-                if lanes_bitmask(t.simd_lt(f32x8::splat(f32::INFINITY))) != 0 {
+                if lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) != 0 {
                     return true;
                 }
                 continue;
@@ -327,7 +327,8 @@ impl Bvh<'_> {
     /// ```
     #[inline]
     pub fn closest_hit_x8(&self, packet: &RayPacket8, hits: &mut HitPacket8) {
-        self.closest_hit_x8_with(packet, hits, &mut BvhStack::new());
+        // Only the two stacks this query uses, not a whole `BvhStack`.
+        self.closest_x8_on(packet, hits, &mut [(0, 0.0); STACK], &mut [(0, 0); STACK]);
     }
 
     /// [`Bvh::closest_hit_x8`] on the caller's reusable `stack`.
@@ -338,12 +339,20 @@ impl Bvh<'_> {
         hits: &mut HitPacket8,
         stack: &mut BvhStack,
     ) {
+        self.closest_x8_on(packet, hits, &mut stack.closest, &mut stack.packet);
+    }
+
+    /// Packet traversal on `stack`, handing subtrees few rays reach to
+    /// single-ray traversal on `single`.
+    #[inline(always)]
+    fn closest_x8_on(
+        &self,
+        packet: &RayPacket8,
+        hits: &mut HitPacket8,
+        single: &mut [(u32, f32); STACK],
+        stack: &mut [(u32, u8); STACK],
+    ) {
         let fallback = self.packet_fallback;
-        let BvhStack {
-            closest: single,
-            packet: stack,
-            ..
-        } = stack;
         let active = packet.active_bits();
         if active == 0 {
             return;
@@ -406,9 +415,10 @@ impl Bvh<'_> {
                         packet.t_max,
                     );
                     let id = i32x8::splat(self.ids[k] as i32);
-                    let hit = lane_on & t.simd_lt(inf);
-                    let id_lower = mask_from_i32(id.simd_lt(bi) | bi.simd_eq(i32x8::splat(-1)));
-                    let take = hit & (t.simd_lt(bt) | (t.simd_eq(bt) & id_lower));
+                    let hit = lane_on & lanes_lt(t, inf);
+                    let id_lower =
+                        mask_from_i32(lanes_lt_i32(id, bi) | lanes_eq_i32(bi, i32x8::splat(-1)));
+                    let take = hit & (lanes_lt(t, bt) | (lanes_eq(t, bt) & id_lower));
                     bt = lanes_select(take, t, bt);
                     bi = lanes_select_i32(take, id, bi);
                 }
@@ -416,7 +426,7 @@ impl Bvh<'_> {
             }
             let node = &self.nodes[entry as usize];
             // The closest so far per lane, else the ray's t_max.
-            let far = lanes_select(bt.simd_lt(inf), bt, packet.t_max);
+            let far = lanes_select(lanes_lt(bt, inf), bt, packet.t_max);
             let mut order = [(0.0f32, (0u32, 0u8)); 8];
             let mut n = 0;
             for c in 0..node.count as usize {
@@ -430,7 +440,7 @@ impl Bvh<'_> {
                     packet.t_min,
                     far,
                 );
-                let lanes = lanes_bitmask(tn.simd_le(tf) & lane_on) as u8;
+                let lanes = lanes_bitmask(lanes_le(tn, tf) & lane_on) as u8;
                 if lanes == 0 {
                     continue;
                 }
@@ -450,7 +460,7 @@ impl Bvh<'_> {
                 sp += 1;
             }
         }
-        let take = bt.simd_lt(hits.t) & mask_from_bits(active as u8);
+        let take = lanes_lt(bt, hits.t) & mask_from_bits(active as u8);
         hits.t = lanes_select(take, bt, hits.t);
         hits.sphere = lanes_select_i32(take, bi, hits.sphere);
     }
@@ -494,7 +504,7 @@ fn inv8(d: f32x8) -> f32x8 {
     let tiny = f32x8::splat(1e-30);
     let neg_tiny = f32x8::splat(-1e-30);
     let negative = mask_sign(d);
-    let zero = d.simd_eq(f32x8::splat(0.0));
+    let zero = lanes_eq(d, f32x8::splat(0.0));
     let d = lanes_select(zero, lanes_select(negative, neg_tiny, tiny), d);
     f32x8::splat(1.0) / d
 }
