@@ -25,7 +25,7 @@ mod harness;
 mod suite;
 
 pub use harness::{
-    Figure, Goal, MIN_JUDGED_CORES, Options, PACKET_TARGET, Ratio, Report, Stat, Verdict,
+    Figure, Goal, Group, MIN_JUDGED_CORES, Options, PACKET_TARGET, Ratio, Report, Stat, Verdict,
     cpu_model, process_cpu_seconds, table, target,
 };
 pub use suite::{COMPARISONS, run_suite};

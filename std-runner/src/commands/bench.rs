@@ -19,9 +19,13 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let options = crate::bench::Options {
         repetitions: args.repetitions as usize,
         min_time: std::time::Duration::from_millis(args.min_time_ms),
+        group: args.group,
     };
     let bar = if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(crate::bench::COMPARISONS);
+        let bar = ProgressBar::new(
+            args.group
+                .map_or(crate::bench::COMPARISONS, crate::bench::Group::comparisons),
+        );
         bar.set_style(
             ProgressStyle::with_template("{spinner} {pos}/{len} {wide_msg}")
                 .expect("a valid template"),
