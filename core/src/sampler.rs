@@ -830,23 +830,12 @@ const PRIMES: [u32; HALTON_BASES] = [
 /// Keys of the Halton digit scrambles, apart from other keys.
 const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
 
-/// The smallest digit weight a Halton value is scrambled down to: `2⁻²⁵`.
-const HALTON_FLOOR: f64 = 1.0 / 33_554_432.0;
-
 /// What the digit loop of one Halton base needs, computed at compile time.
 #[derive(Clone, Copy, Debug)]
 struct HaltonBase {
     base: u32,
-    /// `1 / base`.
-    inv: f64,
-    /// Digits scrambled: while their weight is above [`HALTON_FLOOR`].
-    digits: u32,
-    /// Digits that fix the `f32` cell: `base^levels ≤ 2²⁴ < base^(levels+1)`.
+    /// Digits that fit an `f32`: `base^levels ≤ 2²⁴ < base^(levels+1)`.
     levels: u32,
-    /// `base^levels`.
-    cells: u64,
-    /// `permute_mask(base)`.
-    mask: u32,
     /// `⌈2⁶⁴ / base⌉`: divides and reduces a `u32` exactly by multiplying
     /// (Lemire, Kaser and Kurz 2019).
     magic: u64,
@@ -854,13 +843,6 @@ struct HaltonBase {
 
 impl HaltonBase {
     const fn new(base: u32) -> Self {
-        let inv = 1.0 / base as f64;
-        // The digit loop's own scale sequence, so the count matches it.
-        let (mut digits, mut scale) = (0, inv);
-        while scale > HALTON_FLOOR {
-            digits += 1;
-            scale *= inv;
-        }
         let (mut levels, mut cells) = (0u32, 1u64);
         while cells * base as u64 <= 1 << 24 {
             cells *= base as u64;
@@ -868,11 +850,7 @@ impl HaltonBase {
         }
         Self {
             base,
-            inv,
-            digits,
             levels,
-            cells,
-            mask: permute_mask(base),
             magic: u64::MAX / base as u64 + 1,
         }
     }
@@ -890,6 +868,31 @@ impl HaltonBase {
         let low = self.magic.wrapping_mul(x as u64);
         ((low as u128 * self.base as u128) >> 64) as u32
     }
+
+    /// The random affine permutation `x ↦ (a·x + c) mod base` of a digit,
+    /// with `a ∈ [1, base)` and `c ∈ [0, base)` drawn from `key` (the high
+    /// and low 32 bits, scaled by multiplying). In base 2 it is a keyed
+    /// bit flip.
+    #[inline]
+    const fn permute(&self, digit: u32, key: u64) -> u32 {
+        if self.base == 2 {
+            return digit ^ (key >> 63) as u32;
+        }
+        let a = 1 + (((key >> 32) * (self.base as u64 - 1)) >> 32) as u32;
+        let c = (((key & 0xffff_ffff) * self.base as u64) >> 32) as u32;
+        self.rem(a * digit + c)
+    }
+
+    /// The digits a sampler of `spp` scrambles: the fewest `k` with
+    /// `base^k ≥ spp`, at most `levels`; and `base^k`.
+    const fn digits_for(&self, spp: u32) -> (u32, u32) {
+        let (mut k, mut cells) = (0u32, 1u32);
+        while cells < spp && k < self.levels {
+            cells *= self.base;
+            k += 1;
+        }
+        (k, cells)
+    }
 }
 
 /// [`HaltonBase`] of every prime base.
@@ -906,14 +909,26 @@ static HALTON: [HaltonBase; HALTON_BASES] = {
 /// Owen-scrambled Halton samples: dimension `d` is the radical inverse of
 /// the sample index in the `d`-th prime base (2, 3, 5, 7, … for the first
 /// 64 dimensions, enough for 10 bounces; beyond that the values are
-/// independent uniforms), each digit passed through a random permutation that
-/// depends on the digits before it (a nested, Owen scramble) and on
-/// `(seed, pixel, d)`. Digits are scrambled down to `2⁻²⁵`, so the value
-/// uses the full precision of an `f32`.
+/// independent uniforms), each digit passed through a random permutation
+/// that depends on the digits before it (a nested, Owen scramble) and on
+/// `(seed, pixel, d)`. The permutations are affine, `x ↦ (a·x + c) mod b`
+/// with `a ≠ 0` (a bit flip in base 2): each digit is uniform, and two
+/// different digits go to a uniform pair of different digits, the
+/// pairwise law on which the variance of Owen's scramble rests.
 ///
-/// With `2^a · 3^b` samples the pixel positions fill a `2^a × 3^b` grid
-/// exactly once; every dimension alone is stratified in its base. Works
-/// for any spp; best with products of small primes.
+/// Only the digits that tell the pixel's samples apart are scrambled: the
+/// first `k` in base `b`, the fewest with `b^k ≥ spp` (at most the `f32`
+/// resolution, `b^k ≤ 2²⁴`). Below them the value is uniform in its cell
+/// of width `b^-k`, hashed from the digits' node, which is what scrambling
+/// the zero digits further down would give (independent uniform digits),
+/// at the price of `k` permutations instead of one per digit of an `f32`.
+///
+/// So the first `b^k` samples of a pixel fill the `b^k` strata of base `b`
+/// once each in every dimension, and with `2^a · 3^b` samples the pixel
+/// positions fill a `2^a × 3^b` grid exactly once. Indices come in blocks
+/// of `b^k`: index `i` uses the digits of `i mod b^k`, and each block
+/// (`i / b^k`) has its own scramble, so every block is a fresh stratified
+/// set. Works for any spp; best with products of small primes.
 ///
 /// ```
 /// use glam::UVec2;
@@ -934,6 +949,9 @@ pub struct Halton {
     pixel: PixelKey,
     index: u32,
     dimension: u32,
+    /// Per base: the digits scrambled for this spp, and `base^digits`.
+    digits: [u8; HALTON_BASES],
+    cells: [u32; HALTON_BASES],
     pixel_2d: Vec2,
 }
 
@@ -945,19 +963,26 @@ impl Halton {
         if spp == 0 {
             return None;
         }
+        let (mut digits, mut cells) = ([0; HALTON_BASES], [0; HALTON_BASES]);
+        for (d, b) in HALTON.iter().enumerate() {
+            let (k, c) = b.digits_for(spp);
+            (digits[d], cells[d]) = (k as u8, c);
+        }
         let mut s = Self {
             spp,
             pixel: PixelKey::new(seed),
             index: 0,
             dimension: 2,
+            digits,
+            cells,
             pixel_2d: Vec2::ZERO,
         };
         s.start_pixel_sample(UVec2::ZERO, 0);
         Some(s)
     }
 
-    /// Dimension `d` of the current sample: the Owen-scrambled radical
-    /// inverse of the index in base `PRIMES[d]`.
+    /// Dimension `d` of the current sample.
+    #[inline]
     fn value(&self, d: u32) -> f32 {
         if d >= HALTON_BASES as u32 {
             // Beyond the 64 bases: independent uniform values (a repeated
@@ -966,50 +991,33 @@ impl Halton {
             return u32_to_unit_f32((h >> 32) as u32);
         }
         let b = &HALTON[d as usize];
+        let cells = self.cells[d as usize];
         let mut key = mix64(self.pixel.key ^ HALTON_SALT ^ d as u64);
-        let (mut i, mut scale, mut v) = (self.index, b.inv, 0.0f64);
-        // The integer formed by the first `levels` scrambled digits: the
-        // f32 result must stay in that cell.
-        let mut prefix = 0u64;
-        // Digits of the index, then scrambled zeros, down to 2^-25.
-        for k in 0..b.digits {
+        let mut i = self.index;
+        if i >= cells {
+            // A later block of b^k indices: a scramble of its own.
+            key = mix64(key ^ (i / cells) as u64);
+            i %= cells;
+        }
+        // The scrambled digits, most significant first, as an integer.
+        let mut stratum = 0u32;
+        for _ in 0..self.digits[d as usize] {
             let (rest, digit) = if b.base == 2 {
                 (i >> 1, i & 1)
             } else {
                 b.div_rem(i)
             };
             i = rest;
-            // In base 2 a random permutation of {0, 1} is a keyed bit flip.
-            let permuted = if b.base == 2 {
-                digit ^ (key >> 63) as u32
-            } else {
-                let p = (key >> 32) as u32;
-                permute_in(digit, b.base, b.mask, p, b.rem(p))
-            };
-            v += permuted as f64 * scale;
-            if k < b.levels {
-                prefix = prefix * b.base as u64 + permuted as u64;
-            }
+            let permuted = b.permute(digit, key);
+            stratum = stratum * b.base + permuted;
             // The next digit's permutation depends on this one (nested): a
             // multiply-xorshift step, cheaper than a full mix per digit.
             key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
             key ^= key >> 29;
-            scale *= b.inv;
         }
-        // Rounding to f32 may cross a cell boundary by an ulp: step back in.
-        // f · cells is exact in f64 (24 + 24 bits).
-        let mut f = (v as f32).min(crate::rng::ONE_MINUS_EPSILON);
-        for _ in 0..4 {
-            let cell = (f as f64 * b.cells as f64) as u64; // ≥ 0: truncation floors
-            if cell > prefix {
-                f = f32::from_bits(f.to_bits() - 1);
-            } else if cell < prefix {
-                f = f32::from_bits(f.to_bits() + 1);
-            } else {
-                break;
-            }
-        }
-        f
+        // The digits below: uniform in the stratum, from the node's key.
+        let j = u32_to_unit_f32((mix64(key) >> 32) as u32);
+        stratum_point(stratum, j, cells, 1.0 / cells as f64)
     }
 }
 
@@ -1203,52 +1211,43 @@ mod reference {
         ))
     }
 
-    /// Halton dimension `d` of sample `index` of `pixel`.
-    pub fn halton_value(seed: u64, pixel: UVec2, index: u32, d: u32) -> f32 {
+    /// Halton dimension `d` of sample `index` of `pixel` for `spp`.
+    pub fn halton_value(seed: u64, spp: u32, pixel: UVec2, index: u32, d: u32) -> f32 {
         let pixel_key = pixel_hash(seed, pixel);
         if d >= 64 {
             let h = mix64(pixel_key ^ HALTON_SALT ^ ((d as u64) << 32 | index as u64));
             return u32_to_unit_f32((h >> 32) as u32);
         }
         let base = PRIMES[d as usize];
-        let inv = 1.0 / base as f64;
-        let mut key = mix64(pixel_key ^ HALTON_SALT ^ d as u64);
-        let (mut i, mut scale, mut v) = (index, inv, 0.0f64);
-        let (mut levels, mut cells) = (0u32, 1u64);
-        while cells * base as u64 <= 1 << 24 {
+        // The fewest digits k with base^k >= spp, within the f32 cells.
+        let (mut k, mut cells) = (0, 1u64);
+        while cells < spp as u64 && cells * base as u64 <= 1 << 24 {
             cells *= base as u64;
-            levels += 1;
+            k += 1;
         }
-        let (mut prefix, mut k) = (0u64, 0u32);
-        while scale > 1.0 / 33_554_432.0 {
+        let cells = cells as u32;
+        let mut key = mix64(pixel_key ^ HALTON_SALT ^ d as u64);
+        if index / cells > 0 {
+            key = mix64(key ^ (index / cells) as u64);
+        }
+        let mut i = index % cells;
+        let mut stratum = 0;
+        for _ in 0..k {
             let digit = i % base;
             i /= base;
             let permuted = if base == 2 {
                 digit ^ (key >> 63) as u32
             } else {
-                permute(digit, base, (key >> 32) as u32)
+                let a = 1 + (((key >> 32) * (base as u64 - 1)) >> 32) as u32;
+                let c = (((key & 0xffff_ffff) * base as u64) >> 32) as u32;
+                (a * digit + c) % base
             };
-            v += permuted as f64 * scale;
-            if k < levels {
-                prefix = prefix * base as u64 + permuted as u64;
-            }
-            k += 1;
+            stratum = stratum * base + permuted;
             key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
             key ^= key >> 29;
-            scale *= inv;
         }
-        let mut f = (v as f32).min(crate::rng::ONE_MINUS_EPSILON);
-        for _ in 0..4 {
-            let cell = (f as f64 * cells as f64) as u64;
-            if cell > prefix {
-                f = f32::from_bits(f.to_bits() - 1);
-            } else if cell < prefix {
-                f = f32::from_bits(f.to_bits() + 1);
-            } else {
-                break;
-            }
-        }
-        f
+        let j = u32_to_unit_f32((mix64(key) >> 32) as u32);
+        stratum_point(stratum, j, cells, 1.0 / cells as f64)
     }
 
     /// A strata sampler that hashes every key and rebuilds every stream.
@@ -1424,7 +1423,7 @@ mod fast_paths {
             let seed = 3 + spp as u64;
             let mut s = Halton::new(spp, seed).unwrap();
             visits(spp, |pixel, index, draws| {
-                let want = |d| reference::halton_value(seed, pixel, index, d);
+                let want = |d| reference::halton_value(seed, spp, pixel, index, d);
                 s.start_pixel_sample(pixel, index);
                 assert_eq!(s.pixel_2d(), Vec2::new(want(0), want(1)));
                 let mut d = 2u32;
@@ -1449,11 +1448,15 @@ mod fast_paths {
                 assert_eq!(b.div_rem(x), (x / b.base, x % b.base), "base {}", b.base);
                 assert_eq!(b.rem(x), x % b.base);
             }
-            assert!(b.cells <= 1 << 24 && b.cells * b.base as u64 > 1 << 24);
+            let cells = (b.base as u64).pow(b.levels);
+            assert!(cells <= 1 << 24 && cells * b.base as u64 > 1 << 24);
         }
+        let digits = |d: usize, spp| HALTON[d].digits_for(spp);
         assert_eq!(
-            (HALTON[0].digits, HALTON[1].digits, HALTON[63].digits),
-            (24, 15, 3)
+            [digits(0, 1), digits(0, 16), digits(0, 17)],
+            [(0, 1), (4, 16), (5, 32)]
         );
+        assert_eq!([digits(1, 16), digits(63, 16)], [(3, 27), (1, 311)]);
+        assert_eq!(digits(0, u32::MAX), (24, 1 << 24));
     }
 }
