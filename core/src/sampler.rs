@@ -24,7 +24,7 @@
 //! | [`Independent`] | uniform random | uniform random |
 //! | [`UniformGrid`] | centres of an `nx × ny` grid, raster order | centres of `spp` strata, shuffled |
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
-//! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', groups of 4 |
+//! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', in pairs |
 //! | [`Halton`] | Owen-scrambled Halton, bases 2 and 3 | Owen-scrambled Halton, the next prime bases |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
@@ -39,6 +39,27 @@
 //! with it. A sample index `i ≥ spp` belongs to pass `i / spp` and stratum
 //! slot `i % spp`: every run of `spp` consecutive indices starting at a
 //! multiple of `spp` is a fresh stratified set.
+//!
+//! # Limits
+//!
+//! What each kind does at every edge a caller can reach (the tests in
+//! `tests/sampling/limits.rs` check each):
+//!
+//! | kind | spp | stratifies | dimensions | index `i ≥ spp` |
+//! |---|---|---|---|---|
+//! | [`Independent`] | 1 to `u32::MAX` | nothing | unbounded | a stream of its own |
+//! | [`UniformGrid`], [`Stratified`] | 1 to [`MAX_STRATA_SPP`] `= 2²⁴`; `new` returns `None` beyond | `spp` strata per dimension | unbounded | pass `i / spp`: a fresh stratified set |
+//! | [`Sobol`] | 1 to `u32::MAX` | `2^k` strata with `2^k` samples up to `k = 24`, the `f32` resolution; with `2^k > 2²⁴` samples each of the `2²⁴` values of a dimension comes `2^(k−24)` times | unbounded | the sequence goes on: every aligned block of `2^k` indices is a net |
+//! | [`Halton`] | 1 to `u32::MAX` | `b^k` strata in base `b`, `b^k` the least power `≥ spp`, at most `2²⁴` | 0–63: the prime bases 2–311; from 64 on: independent uniforms hashed from `(seed, pixel, index, d)` | blocks of `b^k` indices, each a fresh stratified set |
+//!
+//! No kind forms a global index from the pixel and the sample index: the
+//! index is the pixel's own `u32`, and the pixel is hashed with `px` and
+//! `py` in separate halves of a 64-bit word. So nothing overflows however
+//! large the image or spp: every pixel in `u32 × u32` and every index up
+//! to `u32::MAX` is valid and gets values like any other. (For the strata
+//! samplers the last pass, `u32::MAX / spp`, ends at `u32::MAX` and is
+//! short unless spp divides `2³²`.) The dimension counter is a `u32` as
+//! well: after `2³²` draws in one sample it wraps to dimension 0.
 //!
 //! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat a
 //! stream), and have no `Default` that would hide a seed. They are `Send +
@@ -200,7 +221,8 @@ fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
 }
 
 /// Uniform random samples: the course's `get_ray`, with a reproducible
-/// stream per pixel sample.
+/// stream per pixel sample. Any spp and index: each `(pixel, index)` has a
+/// stream of its own, so an index `≥ spp` is just another sample.
 ///
 /// ```
 /// use glam::UVec2;
@@ -660,7 +682,7 @@ const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 
 /// Blocks of [`sobol::BLOCK`] dimensions whose keys a Sobol' sampler keeps
 /// for its current pixel (a path of 5 segments draws 28 dimensions).
-const SOBOL_KEYED_BLOCKS: usize = 4;
+const SOBOL_KEYED_BLOCKS: usize = 2;
 
 /// The keys of Sobol' block `block` (dimensions `8·block ..`) of the pixel
 /// hashed to `pixel_key`: each lane's pair key (index shuffle) and
@@ -686,11 +708,14 @@ fn sobol_keys(pixel_key: u64, block: u32) -> [[u32; sobol::BLOCK]; 2] {
 /// dimensions (as pbrt's `PaddedSobolSampler`); see the `sobol` module for
 /// the construction. Best with a power-of-two spp: the first `2^k` samples
 /// of a pixel are a `(0, k, 2)`-net in the pixel position and in every 2D
-/// draw, and stratify every dimension into `2^k` equal strata.
+/// draw, and stratify every dimension into `2^k` equal strata (up to
+/// `k = 24`: values are `f32`s, multiples of `2⁻²⁴`). Any spp works; an
+/// index `≥ spp` continues the sequence, so every aligned block of `2^k`
+/// indices is such a net too.
 ///
 /// `next_2d` starts on an even dimension (skipping one if needed), so a 2D
 /// draw is always one pair and keeps its joint stratification. Dimensions
-/// are evaluated eight at a time, when a draw first reaches them; the
+/// are evaluated sixteen at a time, when a draw first reaches them; the
 /// values are those of each dimension alone.
 ///
 /// ```
@@ -748,7 +773,7 @@ impl Sobol {
     }
 
     /// Evaluates block `block` of the current sample into `values`.
-    #[inline(never)]
+    #[inline(always)]
     fn fill(&mut self, block: u32) {
         let far;
         let keys = if (block as usize) < SOBOL_KEYED_BLOCKS {

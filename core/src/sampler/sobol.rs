@@ -36,7 +36,7 @@
 //! superset sum that five shift-and-mask steps compute (six for a 64-bit
 //! index). So a value needs no table: with `i'` the scrambled index,
 //! `value = reverse(laine_karras(sobol_rev(i', d % 2), key))`. The sampler
-//! evaluates eight dimensions at a time as independent lanes, which a
+//! evaluates sixteen dimensions at a time as independent lanes, which a
 //! compiler turns into SIMD; integer lanes give the same bits at any
 //! width. The tests check both matrices against the direction numbers.
 //!
@@ -44,9 +44,9 @@
 //! row for dimension 2 of Joe and Kuo's `new-joe-kuo-6.21201` (2008),
 //! whose licence is in `core/data/LICENSE-JOE-KUO.txt`.
 
-/// Dimensions a [`Sobol`](super::Sobol) block evaluates at once: four
+/// Dimensions a [`Sobol`](super::Sobol) block evaluates at once: eight
 /// pairs.
-pub(crate) const BLOCK: usize = 8;
+pub(crate) const BLOCK: usize = 16;
 
 /// Sobol' point `index` in dimension `dim` (0 or 1; taken mod 2) as a
 /// bit-reversed 32-bit fraction: bit `a` is the digit of weight
@@ -119,7 +119,7 @@ pub(crate) const fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     laine_karras(x.reverse_bits(), seed).reverse_bits()
 }
 
-/// Dimensions `8b .. 8b + 8` of one sample, as the 24-bit integers
+/// Dimensions `16b .. 16b + 16` of one sample, as the 24-bit integers
 /// `u32_to_unit_f32` scales: `index_rev` is the sample index reversed,
 /// `pair_keys[l]` the index shuffle of lane `l`'s pair, `dim_keys[l]` its
 /// output scramble. Lanes are independent (SIMD-friendly).
@@ -223,8 +223,10 @@ mod tests {
     #[test]
     fn block_equals_the_scalar_definition() {
         // Each lane: scramble the index, take the Sobol' point, scramble it.
-        let pair = [3, 3, 0xdead_beef, 0xdead_beef, 7, 7, u32::MAX, u32::MAX];
-        let dim = [1, 2, 3, 4, 0x8000_0000, 6, 7, 8];
+        let pair: [u32; BLOCK] =
+            core::array::from_fn(|l| (l as u32 / 2).wrapping_mul(0x9e37_79b9) ^ 0xdead_beef);
+        let mut dim: [u32; BLOCK] = core::array::from_fn(|l| l as u32 * 7 + 1);
+        dim[3] = u32::MAX;
         for index in [0u32, 1, 5, 1000, u32::MAX] {
             let block = padded_block(index.reverse_bits(), &pair, &dim);
             for l in 0..BLOCK {
