@@ -330,12 +330,12 @@ impl PixelKey {
 }
 
 /// Dimensions whose strata a strata sampler evaluates at once.
-const STRATA_BLOCK: usize = 8;
+const STRATA_BLOCK: usize = 16;
 
 /// Blocks of [`STRATA_BLOCK`] dimensions whose permutation keys a strata
 /// sampler keeps for its current pixel and pass (a path of 5 segments
 /// draws 28 dimensions).
-const STRATA_KEYED_BLOCKS: usize = 4;
+const STRATA_KEYED_BLOCKS: usize = 2;
 
 /// One round of Kensler's permutation of `[0, w]` keyed by `p` (see
 /// [`permute_in`]).
@@ -361,7 +361,7 @@ const fn permute_round(mut i: u32, w: u32, p: u32) -> u32 {
     i ^ i >> 5
 }
 
-/// [`permute_in`] of one `i < len` under eight keys at once: lanes are
+/// [`permute_in`] of one `i < len` under `STRATA_BLOCK` keys at once: lanes are
 /// independent and branch-free (a lane that has reached `[0, len)` keeps
 /// its value while the others walk on), so a compiler turns them into SIMD.
 #[inline]
