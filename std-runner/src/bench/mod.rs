@@ -13,6 +13,9 @@
 //!   scene's structures or the thread pool), with the CPU seconds per wall
 //!   second of the 2-thread runs, so a busy neighbour shows.
 //!
+//! `--group` runs one of the groups; `examples/sampler_cost.rs` runs the
+//! sampler workload alone, for instruction counters.
+//!
 //! Method: each comparison's contenders run interleaved, one after the
 //! other (forwards, then backwards in the next repetition), in every
 //! repetition: one warm-up repetition, then `repetitions` timed ones. Each timing repeats its work until it lasts at least
