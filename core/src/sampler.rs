@@ -24,7 +24,7 @@
 //! | [`Independent`] | uniform random | uniform random |
 //! | [`UniformGrid`] | centres of an `nx × ny` grid, raster order | centres of `spp` strata, shuffled |
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
-//! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', groups of 4 |
+//! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', in pairs |
 //! | [`Halton`] | Owen-scrambled Halton, bases 2 and 3 | Owen-scrambled Halton, the next prime bases |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
@@ -40,6 +40,27 @@
 //! slot `i % spp`: every run of `spp` consecutive indices starting at a
 //! multiple of `spp` is a fresh stratified set.
 //!
+//! # Limits
+//!
+//! What each kind does at every edge a caller can reach (the tests in
+//! `tests/sampling/limits.rs` check each):
+//!
+//! | kind | spp | stratifies | dimensions | index `i ≥ spp` |
+//! |---|---|---|---|---|
+//! | [`Independent`] | 1 to `u32::MAX` | nothing | unbounded | a stream of its own |
+//! | [`UniformGrid`], [`Stratified`] | 1 to [`MAX_STRATA_SPP`] `= 2²⁴`; `new` returns `None` beyond | `spp` strata per dimension | unbounded | pass `i / spp`: a fresh stratified set |
+//! | [`Sobol`] | 1 to `u32::MAX` | `2^k` strata with `2^k` samples up to `k = 24`, the `f32` resolution; with `2^k > 2²⁴` samples each of the `2²⁴` values of a dimension comes `2^(k−24)` times | unbounded | the sequence goes on: every aligned block of `2^k` indices is a net |
+//! | [`Halton`] | 1 to `u32::MAX` | `b^k` strata in base `b`, `b^k` the least power `≥ spp`, at most `2²⁴` | 0–63: the prime bases 2–311; from 64 on: independent uniforms hashed from `(seed, pixel, index, d)` | blocks of `b^k` indices, each a fresh stratified set |
+//!
+//! No kind forms a global index from the pixel and the sample index: the
+//! index is the pixel's own `u32`, and the pixel is hashed with `px` and
+//! `py` in separate halves of a 64-bit word. So nothing overflows however
+//! large the image or spp: every pixel in `u32 × u32` and every index up
+//! to `u32::MAX` is valid and gets values like any other. (For the strata
+//! samplers the last pass, `u32::MAX / spp`, ends at `u32::MAX` and is
+//! short unless spp divides `2³²`.) The dimension counter is a `u32` as
+//! well: after `2³²` draws in one sample it wraps to dimension 0.
+//!
 //! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat a
 //! stream), and have no `Default` that would hide a seed. They are `Send +
 //! Sync`; each thread owns its own.
@@ -47,7 +68,7 @@
 use glam::{UVec2, Vec2};
 use rand_core::Rng;
 
-use crate::rng::{Pcg32, mix64, pixel_hash, pixel_sample_rng, u32_to_unit_f32};
+use crate::rng::{Pcg32, STREAM, mix64, pixel_hash, pixel_sample_rng, u32_to_unit_f32};
 
 mod sobol;
 
@@ -137,48 +158,42 @@ const fn isqrt(n: u32) -> u32 {
 /// ```
 #[inline]
 #[must_use]
-pub const fn permute(mut i: u32, len: u32, key: u32) -> u32 {
+pub const fn permute(i: u32, len: u32, key: u32) -> u32 {
     if len <= 1 {
         return 0;
     }
     // Outside [0, len) the cycle walk need not come back: fold first.
-    if i >= len {
-        i %= len;
-    }
-    let p = key;
-    let mut w = len - 1;
+    let i = if i >= len { i % len } else { i };
+    permute_in(i, len, permute_mask(len), key, key % len)
+}
+
+/// The smallest `2^k − 1 ≥ len − 1`: the domain of one permutation round.
+#[inline]
+const fn permute_mask(len: u32) -> u32 {
+    let mut w = len.saturating_sub(1);
     w |= w >> 1;
     w |= w >> 2;
     w |= w >> 4;
     w |= w >> 8;
-    w |= w >> 16;
+    w | w >> 16
+}
+
+/// [`permute`] of an `i < len` (`len ≥ 1`), with `w = permute_mask(len)`
+/// and `key_mod = key % len` given, so callers that hold `len` or `key`
+/// fixed compute them once. For `len = 1` it returns 0 like `permute`.
+#[inline]
+const fn permute_in(mut i: u32, len: u32, w: u32, key: u32, key_mod: u32) -> u32 {
     // Each step is a bijection of [0, w]; cycle walking restricts it to
     // [0, len), and len > w / 2 bounds the expected walk by two rounds.
     loop {
-        i ^= p;
-        i = i.wrapping_mul(0xe170_893d);
-        i ^= p >> 16;
-        i ^= (i & w) >> 4;
-        i ^= p >> 8;
-        i = i.wrapping_mul(0x0929_eb3f);
-        i ^= p >> 23;
-        i ^= (i & w) >> 1;
-        i = i.wrapping_mul(1 | p >> 27);
-        i = i.wrapping_mul(0x6935_fa69);
-        i ^= (i & w) >> 11;
-        i = i.wrapping_mul(0x74dc_b303);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0x9e50_1cc3);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0xc860_a3df);
-        i &= w;
-        i ^= i >> 5;
+        i = permute_round(i, w, key);
         if i < len {
             break;
         }
     }
-    // (i + p) mod len without overflow: i < len, so one subtraction.
-    let r = i.wrapping_add(p % len);
+    // (i + key) mod len without overflow: both terms are below len, so
+    // one subtraction.
+    let r = i.wrapping_add(key_mod);
     if r >= len || r < i {
         r.wrapping_sub(len)
     } else {
@@ -193,20 +208,21 @@ pub const fn permute(mut i: u32, len: u32, key: u32) -> u32 {
 /// off by an ulp, which the check repairs.
 #[inline]
 fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
-    let nf = n as f64;
-    let mut v = ((s as f64 + j as f64) * inv_n) as f32;
+    let (sf, nf) = (s as f64, n as f64);
+    let mut v = ((sf + j as f64) * inv_n) as f32;
     // An f32 (24-bit significand) times an integer below 2^29 fits the 53
-    // bits of an f64 exactly; n ≤ MAX_STRATA_SPP = 2^24.
-    if v as f64 * nf >= (s + 1) as f64 {
+    // bits of an f64 exactly; n ≤ MAX_STRATA_SPP = 2^24 (so is s + 1).
+    if v as f64 * nf >= sf + 1.0 {
         v = f32::from_bits(v.to_bits() - 1);
-    } else if (v as f64 * nf) < s as f64 {
+    } else if (v as f64 * nf) < sf {
         v = f32::from_bits(v.to_bits() + 1);
     }
     v
 }
 
 /// Uniform random samples: the course's `get_ray`, with a reproducible
-/// stream per pixel sample.
+/// stream per pixel sample. Any spp and index: each `(pixel, index)` has a
+/// stream of its own, so an index `≥ spp` is just another sample.
 ///
 /// ```
 /// use glam::UVec2;
@@ -281,29 +297,138 @@ const PERMUTATION_SALT: u64 = 0x243f_6a88_85a3_08d3;
 /// per stratum" could no longer hold.
 pub const MAX_STRATA_SPP: u32 = 1 << 24;
 
-/// The state the two strata samplers share; `jitter` is the only
-/// difference between them, as in pbrt's `StratifiedSampler`.
+/// The pixel a sampler is on and its [`pixel_hash`], kept while the
+/// sampler stays on that pixel: a renderer takes all the samples of a
+/// pixel in a row, so the two mixes are paid once per pixel, not per
+/// sample. Only a cache: every value is the same without it.
 #[derive(Clone, Debug)]
-struct Strata {
+struct PixelKey {
+    seed: u64,
+    pixel: UVec2,
+    key: u64,
+}
+
+impl PixelKey {
+    fn new(seed: u64) -> Self {
+        Self {
+            seed,
+            pixel: UVec2::ZERO,
+            key: pixel_hash(seed, UVec2::ZERO),
+        }
+    }
+
+    /// Moves to `pixel`; `true` if it is another pixel than before.
+    #[inline]
+    fn set(&mut self, pixel: UVec2) -> bool {
+        if pixel == self.pixel {
+            return false;
+        }
+        self.pixel = pixel;
+        self.key = pixel_hash(self.seed, pixel);
+        true
+    }
+}
+
+/// Dimensions whose strata a strata sampler evaluates at once.
+const STRATA_BLOCK: usize = 16;
+
+/// Blocks of [`STRATA_BLOCK`] dimensions whose permutation keys a strata
+/// sampler keeps for its current pixel and pass (a path of 5 segments
+/// draws 28 dimensions).
+const STRATA_KEYED_BLOCKS: usize = 2;
+
+/// One round of Kensler's permutation of `[0, w]` keyed by `p` (see
+/// [`permute_in`]).
+#[inline(always)]
+const fn permute_round(mut i: u32, w: u32, p: u32) -> u32 {
+    i ^= p;
+    i = i.wrapping_mul(0xe170_893d);
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i = i.wrapping_mul(0x0929_eb3f);
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i = i.wrapping_mul(1 | p >> 27);
+    i = i.wrapping_mul(0x6935_fa69);
+    i ^= (i & w) >> 11;
+    i = i.wrapping_mul(0x74dc_b303);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0x9e50_1cc3);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0xc860_a3df);
+    i &= w;
+    i ^ i >> 5
+}
+
+/// [`permute_in`] of one `i < len` under `STRATA_BLOCK` keys at once: lanes are
+/// independent and branch-free (a lane that has reached `[0, len)` keeps
+/// its value while the others walk on), so a compiler turns them into SIMD.
+#[inline]
+fn permute_block(
+    i: u32,
+    len: u32,
+    w: u32,
+    keys: &[u32; STRATA_BLOCK],
+    key_mods: &[u32; STRATA_BLOCK],
+) -> [u32; STRATA_BLOCK] {
+    let mut x = [i; STRATA_BLOCK];
+    // All ones while a lane still walks.
+    let mut walking = [u32::MAX; STRATA_BLOCK];
+    loop {
+        let mut any = 0;
+        for l in 0..STRATA_BLOCK {
+            let y = permute_round(x[l], w, keys[l]);
+            x[l] = (y & walking[l]) | (x[l] & !walking[l]);
+            walking[l] &= 0u32.wrapping_sub((y >= len) as u32);
+            any |= walking[l];
+        }
+        if any == 0 {
+            break;
+        }
+    }
+    let mut out = [0; STRATA_BLOCK];
+    for l in 0..STRATA_BLOCK {
+        // (x + key) mod len without overflow, as permute_in.
+        let r = x[l].wrapping_add(key_mods[l]);
+        let wrap = (r >= len) | (r < x[l]);
+        out[l] = r.wrapping_sub(len & 0u32.wrapping_sub(wrap as u32));
+    }
+    out
+}
+
+/// The state the two strata samplers share; `JITTER` is the only
+/// difference between them, as in pbrt's `StratifiedSampler`. Without
+/// jitter every point is a stratum centre and the stream is never read.
+#[derive(Clone, Debug)]
+struct Strata<const JITTER: bool> {
     spp: u32,
     nx: u32,
     ny: u32,
     /// `1 / spp`, `1 / nx`, `1 / ny`: reciprocals instead of divisions.
     inv: [f64; 3],
-    seed: u64,
-    jitter: bool,
-    /// Hash of (seed, pixel), the start of every permutation key.
-    pixel_key: u64,
+    /// `permute_mask(spp)`.
+    mask: u32,
+    pixel: PixelKey,
     /// Stratum slot `index % spp` and pass `index / spp`.
     slot: u32,
     pass: u32,
     dimension: u32,
+    /// The pass whose keys `keys` holds, and which blocks of it are
+    /// filled (bit `b`).
+    keyed_pass: u32,
+    keyed: u32,
+    /// Each dimension's permutation key and its residue mod spp, by block.
+    keys: [[[u32; STRATA_BLOCK]; 2]; STRATA_KEYED_BLOCKS],
+    /// The block whose shuffled strata `strata` holds.
+    block: u32,
+    strata: [u32; STRATA_BLOCK],
     rng: Pcg32,
-    pixel: Vec2,
+    pixel_2d: Vec2,
 }
 
-impl Strata {
-    fn new(spp: u32, seed: u64, jitter: bool, shuffle_pixel: bool) -> Option<Self> {
+impl<const JITTER: bool> Strata<JITTER> {
+    fn new(spp: u32, seed: u64, shuffle_pixel: bool) -> Option<Self> {
         if spp == 0 || spp > MAX_STRATA_SPP {
             return None;
         }
@@ -313,35 +438,76 @@ impl Strata {
             nx,
             ny,
             inv: [1.0 / spp as f64, 1.0 / nx as f64, 1.0 / ny as f64],
-            seed,
-            jitter,
-            pixel_key: 0,
+            mask: permute_mask(spp),
+            pixel: PixelKey::new(seed),
             slot: 0,
             pass: 0,
             dimension: 2,
+            keyed_pass: 0,
+            keyed: 0,
+            keys: [[[0; STRATA_BLOCK]; 2]; STRATA_KEYED_BLOCKS],
+            block: 0,
+            strata: [0; STRATA_BLOCK],
             rng: pixel_sample_rng(seed, UVec2::ZERO, 0),
-            pixel: Vec2::ZERO,
+            pixel_2d: Vec2::ZERO,
         };
         s.start(UVec2::ZERO, 0, shuffle_pixel);
         Some(s)
     }
 
-    /// The shuffled stratum of the current sample in `dimension`.
-    #[inline]
-    fn stratum(&self, dimension: u32) -> u32 {
-        // Salted so that a key never equals a stream state
-        // (`mix64(pixel_key ^ index)`) of the same pixel.
-        let word = dimension as u64 | (self.pass as u64) << 32;
-        let key = mix64(self.pixel_key ^ PERMUTATION_SALT ^ word);
-        permute(self.slot, self.spp, (key >> 32) as u32)
+    /// The permutation keys of block `block` in the current pass, and
+    /// their residues mod spp.
+    fn block_keys(&self, block: u32) -> [[u32; STRATA_BLOCK]; 2] {
+        let first = block.wrapping_mul(STRATA_BLOCK as u32);
+        let keys: [u32; STRATA_BLOCK] = core::array::from_fn(|l| {
+            let d = first.wrapping_add(l as u32);
+            // Salted so that a key never equals a stream state
+            // (`mix64(pixel_key ^ index)`) of the same pixel.
+            let word = d as u64 | (self.pass as u64) << 32;
+            (mix64(self.pixel.key ^ PERMUTATION_SALT ^ word) >> 32) as u32
+        });
+        [keys, keys.map(|k| k % self.spp)]
     }
 
-    /// One jitter value per stratified coordinate; drawn even when unused
-    /// so the stream position depends only on the dimension.
+    /// Shuffles the strata of block `block` of the current sample into
+    /// `strata`.
+    #[inline(never)]
+    fn fill(&mut self, block: u32) {
+        let far;
+        let keys = if (block as usize) < STRATA_KEYED_BLOCKS {
+            let b = block as usize;
+            if self.keyed & 1 << b == 0 {
+                self.keys[b] = self.block_keys(block);
+                self.keyed |= 1 << b;
+            }
+            &self.keys[b]
+        } else {
+            far = self.block_keys(block);
+            &far
+        };
+        self.strata = permute_block(self.slot, self.spp, self.mask, &keys[0], &keys[1]);
+        self.block = block;
+    }
+
+    /// The shuffled stratum of the current sample in `dimension`.
+    #[inline]
+    fn stratum(&mut self, dimension: u32) -> u32 {
+        let block = dimension / STRATA_BLOCK as u32;
+        if block != self.block {
+            self.fill(block);
+        }
+        self.strata[dimension as usize % STRATA_BLOCK]
+    }
+
+    /// One jitter value per stratified coordinate, word `d` of the stream
+    /// for dimension `d`.
     #[inline]
     fn jitter(&mut self) -> f32 {
-        let u = u32_to_unit_f32(self.rng.next_u32());
-        if self.jitter { u } else { 0.5 }
+        if JITTER {
+            u32_to_unit_f32(self.rng.next_u32())
+        } else {
+            0.5
+        }
     }
 
     #[inline]
@@ -354,17 +520,27 @@ impl Strata {
         )
     }
 
+    #[inline]
     fn start(&mut self, pixel: UVec2, index: u32, shuffle_pixel: bool) {
-        self.pixel_key = pixel_hash(self.seed, pixel);
-        self.slot = index % self.spp;
-        self.pass = index / self.spp;
-        self.rng = pixel_sample_rng(self.seed, pixel, index);
+        let (slot, pass) = (index % self.spp, index / self.spp);
+        if self.pixel.set(pixel) || pass != self.keyed_pass {
+            self.keyed = 0;
+            self.keyed_pass = pass;
+        }
+        self.slot = slot;
+        self.pass = pass;
+        if JITTER {
+            // pixel_sample_rng(seed, pixel, index), from the kept pixel hash.
+            self.rng = Pcg32::new(mix64(self.pixel.key ^ index as u64), STREAM);
+        }
+        // Block 0 holds the pixel's stratum and the first draws'.
+        self.fill(0);
         let stratum = if shuffle_pixel {
-            self.stratum(0)
+            self.strata[0]
         } else {
             self.slot
         };
-        self.pixel = self.point_2d(stratum);
+        self.pixel_2d = self.point_2d(stratum);
         self.dimension = 2;
     }
 
@@ -398,14 +574,14 @@ impl Strata {
 /// assert_eq!(s.pixel_2d(), Vec2::new(0.75, 0.75));
 /// ```
 #[derive(Clone, Debug)]
-pub struct UniformGrid(Strata);
+pub struct UniformGrid(Strata<false>);
 
 impl UniformGrid {
     /// A grid sampler; `None` if `spp` is 0 or above [`MAX_STRATA_SPP`].
     #[inline]
     #[must_use]
     pub fn new(spp: u32, seed: u64) -> Option<Self> {
-        Strata::new(spp, seed, false, false).map(Self)
+        Strata::new(spp, seed, false).map(Self)
     }
 
     /// The `(nx, ny)` pixel grid.
@@ -427,7 +603,7 @@ impl Sampler for UniformGrid {
     }
     #[inline]
     fn pixel_2d(&mut self) -> Vec2 {
-        self.0.pixel
+        self.0.pixel_2d
     }
     #[inline]
     fn next_1d(&mut self) -> f32 {
@@ -457,7 +633,7 @@ impl Sampler for UniformGrid {
 /// assert_eq!(thirds, [3, 3, 3]);
 /// ```
 #[derive(Clone, Debug)]
-pub struct Stratified(Strata);
+pub struct Stratified(Strata<true>);
 
 impl Stratified {
     /// A jittered stratified sampler; `None` if `spp` is 0 or above
@@ -465,7 +641,7 @@ impl Stratified {
     #[inline]
     #[must_use]
     pub fn new(spp: u32, seed: u64) -> Option<Self> {
-        Strata::new(spp, seed, true, true).map(Self)
+        Strata::new(spp, seed, true).map(Self)
     }
 
     /// The `(nx, ny)` strata of the 2D dimensions.
@@ -487,7 +663,7 @@ impl Sampler for Stratified {
     }
     #[inline]
     fn pixel_2d(&mut self) -> Vec2 {
-        self.0.pixel
+        self.0.pixel_2d
     }
     #[inline]
     fn next_1d(&mut self) -> f32 {
@@ -499,69 +675,48 @@ impl Sampler for Stratified {
     }
 }
 
-/// The `Sampler` impl shared by the hashed low-discrepancy samplers: all
-/// state is `(pixel key, index, dimension)`, and each dimension's value
-/// comes from the type's `value(d)`. `align_2d` starts 2D draws on an even
-/// dimension (Sobol' pairs must not straddle groups of four).
-macro_rules! hashed_sampler {
-    ($name:ident, $align:ident) => {
-        impl Sampler for $name {
-            #[inline]
-            fn samples_per_pixel(&self) -> u32 {
-                self.spp
-            }
-
-            #[inline]
-            fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
-                self.pixel_key = pixel_hash(self.seed, pixel);
-                self.index = index;
-                self.dimension = 2;
-                self.pixel = Vec2::new(self.value(0), self.value(1));
-            }
-
-            #[inline]
-            fn pixel_2d(&mut self) -> Vec2 {
-                self.pixel
-            }
-
-            #[inline]
-            fn next_1d(&mut self) -> f32 {
-                let d = self.dimension;
-                self.dimension = d.wrapping_add(1);
-                self.value(d)
-            }
-
-            #[inline]
-            fn next_2d(&mut self) -> Vec2 {
-                let d = hashed_sampler!(@start $align, self.dimension);
-                self.dimension = d.wrapping_add(2);
-                Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
-            }
-        }
-    };
-    (@start align_2d, $d:expr) => {
-        $d.wrapping_add($d & 1)
-    };
-    (@start no_align, $d:expr) => {
-        $d
-    };
-}
-
 /// Keys of the Sobol' index shuffles and output scrambles, apart from
 /// each other and from stream states.
 const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
 const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 
+/// Blocks of [`sobol::BLOCK`] dimensions whose keys a Sobol' sampler keeps
+/// for its current pixel (a path of 5 segments draws 28 dimensions).
+const SOBOL_KEYED_BLOCKS: usize = 2;
+
+/// The keys of Sobol' block `block` (dimensions `8·block ..`) of the pixel
+/// hashed to `pixel_key`: each lane's pair key (index shuffle) and
+/// dimension key (output scramble).
+#[inline]
+fn sobol_keys(pixel_key: u64, block: u32) -> [[u32; sobol::BLOCK]; 2] {
+    let first = block.wrapping_mul(sobol::BLOCK as u32);
+    let mut pairs = [0u32; sobol::BLOCK / 2];
+    for (g, k) in pairs.iter_mut().enumerate() {
+        let pair = first / 2 + g as u32;
+        *k = (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32;
+    }
+    let mut keys = [[0u32; sobol::BLOCK]; 2];
+    for l in 0..sobol::BLOCK {
+        let d = first.wrapping_add(l as u32);
+        keys[0][l] = pairs[l / 2];
+        keys[1][l] = (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
+    }
+    keys
+}
+
 /// Owen-scrambled Sobol' samples (Burley 2020), padded in pairs of
 /// dimensions (as pbrt's `PaddedSobolSampler`); see the `sobol` module for
 /// the construction. Best with a power-of-two spp: the first `2^k` samples
 /// of a pixel are a `(0, k, 2)`-net in the pixel position and in every 2D
-/// draw, and stratify every dimension into `2^k` equal strata.
+/// draw, and stratify every dimension into `2^k` equal strata (up to
+/// `k = 24`: values are `f32`s, multiples of `2⁻²⁴`). Any spp works; an
+/// index `≥ spp` continues the sequence, so every aligned block of `2^k`
+/// indices is such a net too.
 ///
 /// `next_2d` starts on an even dimension (skipping one if needed), so a 2D
-/// draw is always one pair and keeps its joint stratification. (At the
-/// dimension counter's wrap-around, 2³² draws into a sample, it would
-/// reuse dimension 0.)
+/// draw is always one pair and keeps its joint stratification. Dimensions
+/// are evaluated sixteen at a time, when a draw first reaches them; the
+/// values are those of each dimension alone.
 ///
 /// ```
 /// use glam::UVec2;
@@ -581,11 +736,17 @@ const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 #[derive(Clone, Debug)]
 pub struct Sobol {
     spp: u32,
-    seed: u64,
-    pixel_key: u64,
-    index: u32,
+    pixel: PixelKey,
+    /// Bit `b`: `keys[b]` holds block `b`'s keys for the current pixel.
+    keyed: u32,
+    keys: [[[u32; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
+    /// The sample index, bit-reversed.
+    index_rev: u32,
     dimension: u32,
-    pixel: Vec2,
+    /// The block whose values `values` holds.
+    block: u32,
+    values: [f32; sobol::BLOCK],
+    pixel_2d: Vec2,
 }
 
 impl Sobol {
@@ -598,33 +759,93 @@ impl Sobol {
         }
         let mut s = Self {
             spp,
-            seed,
-            pixel_key: 0,
-            index: 0,
+            pixel: PixelKey::new(seed),
+            keyed: 0,
+            keys: [[[0; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
+            index_rev: 0,
             dimension: 2,
-            pixel: Vec2::ZERO,
+            block: 0,
+            values: [0.0; sobol::BLOCK],
+            pixel_2d: Vec2::ZERO,
         };
         s.start_pixel_sample(UVec2::ZERO, 0);
         Some(s)
     }
 
-    /// Dimension `d` of the current sample.
-    #[inline]
-    fn value(&self, d: u32) -> f32 {
-        let group = (mix64(self.pixel_key ^ SOBOL_GROUP_SALT ^ (d / 2) as u64) >> 32) as u32;
-        let index = sobol::nested_uniform_scramble(self.index, group);
-        let key = (mix64(self.pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
-        u32_to_unit_f32(sobol::nested_uniform_scramble(
-            sobol::sobol(index, (d % 2) as usize),
-            key,
-        ))
+    /// Evaluates block `block` of the current sample into `values`.
+    #[inline(always)]
+    fn fill(&mut self, block: u32) {
+        let far;
+        let keys = if (block as usize) < SOBOL_KEYED_BLOCKS {
+            let b = block as usize;
+            if self.keyed & 1 << b == 0 {
+                self.keys[b] = sobol_keys(self.pixel.key, block);
+                self.keyed |= 1 << b;
+            }
+            &self.keys[b]
+        } else {
+            far = sobol_keys(self.pixel.key, block);
+            &far
+        };
+        let ints = sobol::padded_block(self.index_rev, &keys[0], &keys[1]);
+        // u32_to_unit_f32 of the 32-bit values, whose 24 high bits these are.
+        self.values = ints.map(|x| x as f32 * (1.0 / 16_777_216.0));
+        self.block = block;
     }
 }
 
-hashed_sampler!(Sobol, align_2d);
+impl Sampler for Sobol {
+    #[inline]
+    fn samples_per_pixel(&self) -> u32 {
+        self.spp
+    }
+
+    #[inline]
+    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        if self.pixel.set(pixel) {
+            self.keyed = 0;
+        }
+        self.index_rev = index.reverse_bits();
+        self.dimension = 2;
+        self.fill(0);
+        self.pixel_2d = Vec2::new(self.values[0], self.values[1]);
+    }
+
+    #[inline]
+    fn pixel_2d(&mut self) -> Vec2 {
+        self.pixel_2d
+    }
+
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(1);
+        let block = d / sobol::BLOCK as u32;
+        if block != self.block {
+            self.fill(block);
+        }
+        self.values[d as usize % sobol::BLOCK]
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        // A pair starts on an even dimension, so it never straddles blocks.
+        let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
+        let block = d / sobol::BLOCK as u32;
+        if block != self.block {
+            self.fill(block);
+        }
+        let k = d as usize % sobol::BLOCK;
+        Vec2::new(self.values[k], self.values[k | 1])
+    }
+}
+
+/// The number of prime bases, the Halton dimensions.
+const HALTON_BASES: usize = 64;
 
 /// The first 64 primes: the Halton bases of dimensions 0–63.
-const PRIMES: [u32; 64] = [
+const PRIMES: [u32; HALTON_BASES] = [
     2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89, 97,
     101, 103, 107, 109, 113, 127, 131, 137, 139, 149, 151, 157, 163, 167, 173, 179, 181, 191, 193,
     197, 199, 211, 223, 227, 229, 233, 239, 241, 251, 257, 263, 269, 271, 277, 281, 283, 293, 307,
@@ -634,17 +855,105 @@ const PRIMES: [u32; 64] = [
 /// Keys of the Halton digit scrambles, apart from other keys.
 const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
 
+/// What the digit loop of one Halton base needs, computed at compile time.
+#[derive(Clone, Copy, Debug)]
+struct HaltonBase {
+    base: u32,
+    /// Digits that fit an `f32`: `base^levels ≤ 2²⁴ < base^(levels+1)`.
+    levels: u32,
+    /// `⌈2⁶⁴ / base⌉`: divides and reduces a `u32` exactly by multiplying
+    /// (Lemire, Kaser and Kurz 2019).
+    magic: u64,
+}
+
+impl HaltonBase {
+    const fn new(base: u32) -> Self {
+        let (mut levels, mut cells) = (0u32, 1u64);
+        while cells * base as u64 <= 1 << 24 {
+            cells *= base as u64;
+            levels += 1;
+        }
+        Self {
+            base,
+            levels,
+            magic: u64::MAX / base as u64 + 1,
+        }
+    }
+
+    /// `(x / base, x % base)`.
+    #[inline]
+    const fn div_rem(&self, x: u32) -> (u32, u32) {
+        let q = ((self.magic as u128 * x as u128) >> 64) as u32;
+        (q, x - q * self.base)
+    }
+
+    /// `x % base`.
+    #[inline]
+    const fn rem(&self, x: u32) -> u32 {
+        let low = self.magic.wrapping_mul(x as u64);
+        ((low as u128 * self.base as u128) >> 64) as u32
+    }
+
+    /// The random affine permutation `x ↦ (a·x + c) mod base` of a digit,
+    /// with `a ∈ [1, base)` and `c ∈ [0, base)` drawn from `key` (the high
+    /// and low 32 bits, scaled by multiplying). In base 2 it is a keyed
+    /// bit flip.
+    #[inline]
+    const fn permute(&self, digit: u32, key: u64) -> u32 {
+        if self.base == 2 {
+            return digit ^ (key >> 63) as u32;
+        }
+        let a = 1 + (((key >> 32) * (self.base as u64 - 1)) >> 32) as u32;
+        let c = (((key & 0xffff_ffff) * self.base as u64) >> 32) as u32;
+        self.rem(a * digit + c)
+    }
+
+    /// The digits a sampler of `spp` scrambles: the fewest `k` with
+    /// `base^k ≥ spp`, at most `levels`; and `base^k`.
+    const fn digits_for(&self, spp: u32) -> (u32, u32) {
+        let (mut k, mut cells) = (0u32, 1u32);
+        while cells < spp && k < self.levels {
+            cells *= self.base;
+            k += 1;
+        }
+        (k, cells)
+    }
+}
+
+/// [`HaltonBase`] of every prime base.
+static HALTON: [HaltonBase; HALTON_BASES] = {
+    let mut t = [HaltonBase::new(2); HALTON_BASES];
+    let mut d = 1;
+    while d < HALTON_BASES {
+        t[d] = HaltonBase::new(PRIMES[d]);
+        d += 1;
+    }
+    t
+};
+
 /// Owen-scrambled Halton samples: dimension `d` is the radical inverse of
 /// the sample index in the `d`-th prime base (2, 3, 5, 7, … for the first
 /// 64 dimensions, enough for 10 bounces; beyond that the values are
-/// independent uniforms), each digit passed through a random permutation that
-/// depends on the digits before it (a nested, Owen scramble) and on
-/// `(seed, pixel, d)`. Digits are scrambled down to `2⁻²⁵`, so the value
-/// uses the full precision of an `f32`.
+/// independent uniforms), each digit passed through a random permutation
+/// that depends on the digits before it (a nested, Owen scramble) and on
+/// `(seed, pixel, d)`. The permutations are affine, `x ↦ (a·x + c) mod b`
+/// with `a ≠ 0` (a bit flip in base 2): each digit is uniform, and two
+/// different digits go to a uniform pair of different digits, the
+/// pairwise law on which the variance of Owen's scramble rests.
 ///
-/// With `2^a · 3^b` samples the pixel positions fill a `2^a × 3^b` grid
-/// exactly once; every dimension alone is stratified in its base. Works
-/// for any spp; best with products of small primes.
+/// Only the digits that tell the pixel's samples apart are scrambled: the
+/// first `k` in base `b`, the fewest with `b^k ≥ spp` (at most the `f32`
+/// resolution, `b^k ≤ 2²⁴`). Below them the value is uniform in its cell
+/// of width `b^-k`, hashed from the digits' node, which is what scrambling
+/// the zero digits further down would give (independent uniform digits),
+/// at the price of `k` permutations instead of one per digit of an `f32`.
+///
+/// So the first `b^k` samples of a pixel fill the `b^k` strata of base `b`
+/// once each in every dimension, and with `2^a · 3^b` samples the pixel
+/// positions fill a `2^a × 3^b` grid exactly once. Indices come in blocks
+/// of `b^k`: index `i` uses the digits of `i mod b^k`, and each block
+/// (`i / b^k`) has its own scramble, so every block is a fresh stratified
+/// set. Works for any spp; best with products of small primes.
 ///
 /// ```
 /// use glam::UVec2;
@@ -662,11 +971,13 @@ const HALTON_SALT: u64 = 0xbe54_66cf_34e9_0c6c;
 #[derive(Clone, Debug)]
 pub struct Halton {
     spp: u32,
-    seed: u64,
-    pixel_key: u64,
+    pixel: PixelKey,
     index: u32,
     dimension: u32,
-    pixel: Vec2,
+    /// Per base: the digits scrambled for this spp, and `base^digits`.
+    digits: [u8; HALTON_BASES],
+    cells: [u32; HALTON_BASES],
+    pixel_2d: Vec2,
 }
 
 impl Halton {
@@ -677,78 +988,97 @@ impl Halton {
         if spp == 0 {
             return None;
         }
+        let (mut digits, mut cells) = ([0; HALTON_BASES], [0; HALTON_BASES]);
+        for (d, b) in HALTON.iter().enumerate() {
+            let (k, c) = b.digits_for(spp);
+            (digits[d], cells[d]) = (k as u8, c);
+        }
         let mut s = Self {
             spp,
-            seed,
-            pixel_key: 0,
+            pixel: PixelKey::new(seed),
             index: 0,
             dimension: 2,
-            pixel: Vec2::ZERO,
+            digits,
+            cells,
+            pixel_2d: Vec2::ZERO,
         };
         s.start_pixel_sample(UVec2::ZERO, 0);
         Some(s)
     }
 
-    /// Dimension `d` of the current sample: the Owen-scrambled radical
-    /// inverse of the index in base `PRIMES[d % 64]`.
+    /// Dimension `d` of the current sample.
+    #[inline]
     fn value(&self, d: u32) -> f32 {
-        if d >= 64 {
+        if d >= HALTON_BASES as u32 {
             // Beyond the 64 bases: independent uniform values (a repeated
             // base would be driven by the same index digits and correlate).
-            let h = mix64(self.pixel_key ^ HALTON_SALT ^ ((d as u64) << 32 | self.index as u64));
+            let h = mix64(self.pixel.key ^ HALTON_SALT ^ ((d as u64) << 32 | self.index as u64));
             return u32_to_unit_f32((h >> 32) as u32);
         }
-        let base = PRIMES[d as usize];
-        let inv = 1.0 / base as f64;
-        let mut key = mix64(self.pixel_key ^ HALTON_SALT ^ d as u64);
-        let (mut i, mut scale, mut v) = (self.index, inv, 0.0f64);
-        // The integer formed by the first `levels` scrambled digits, where
-        // base^levels ≤ 2^24: the f32 result must stay in that interval.
-        let (mut levels, mut cells) = (0u32, 1u64);
-        while cells * base as u64 <= 1 << 24 {
-            cells *= base as u64;
-            levels += 1;
+        let b = &HALTON[d as usize];
+        let cells = self.cells[d as usize];
+        let mut key = mix64(self.pixel.key ^ HALTON_SALT ^ d as u64);
+        let mut i = self.index;
+        if i >= cells {
+            // A later block of b^k indices: a scramble of its own.
+            key = mix64(key ^ (i / cells) as u64);
+            i %= cells;
         }
-        let (mut prefix, mut k) = (0u64, 0u32);
-        // Digits of the index, then scrambled zeros, down to 2^-25.
-        while scale > 1.0 / 33_554_432.0 {
-            let digit = i % base;
-            i /= base;
-            // In base 2 a random permutation of {0, 1} is a keyed bit flip.
-            let permuted = if base == 2 {
-                digit ^ (key >> 63) as u32
+        // The scrambled digits, most significant first, as an integer.
+        let mut stratum = 0u32;
+        for _ in 0..self.digits[d as usize] {
+            let (rest, digit) = if b.base == 2 {
+                (i >> 1, i & 1)
             } else {
-                permute(digit, base, (key >> 32) as u32)
+                b.div_rem(i)
             };
-            v += permuted as f64 * scale;
-            if k < levels {
-                prefix = prefix * base as u64 + permuted as u64;
-            }
-            k += 1;
+            i = rest;
+            let permuted = b.permute(digit, key);
+            stratum = stratum * b.base + permuted;
             // The next digit's permutation depends on this one (nested): a
             // multiply-xorshift step, cheaper than a full mix per digit.
             key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
             key ^= key >> 29;
-            scale *= inv;
         }
-        // Rounding to f32 may cross a cell boundary by an ulp: step back in.
-        // f · cells is exact in f64 (24 + 24 bits).
-        let mut f = (v as f32).min(crate::rng::ONE_MINUS_EPSILON);
-        for _ in 0..4 {
-            let cell = (f as f64 * cells as f64) as u64; // ≥ 0: truncation floors
-            if cell > prefix {
-                f = f32::from_bits(f.to_bits() - 1);
-            } else if cell < prefix {
-                f = f32::from_bits(f.to_bits() + 1);
-            } else {
-                break;
-            }
-        }
-        f
+        // The digits below: uniform in the stratum, from the node's key.
+        let j = u32_to_unit_f32((mix64(key) >> 32) as u32);
+        stratum_point(stratum, j, cells, 1.0 / cells as f64)
     }
 }
 
-hashed_sampler!(Halton, no_align);
+impl Sampler for Halton {
+    #[inline]
+    fn samples_per_pixel(&self) -> u32 {
+        self.spp
+    }
+
+    #[inline]
+    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        self.pixel.set(pixel);
+        self.index = index;
+        self.dimension = 2;
+        self.pixel_2d = Vec2::new(self.value(0), self.value(1));
+    }
+
+    #[inline]
+    fn pixel_2d(&mut self) -> Vec2 {
+        self.pixel_2d
+    }
+
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(1);
+        self.value(d)
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(2);
+        Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -885,5 +1215,273 @@ mod tests {
             assert_eq!(ind.next_1d(), st.next_1d());
             assert_eq!(ind.next_2d(), st.next_2d());
         }
+    }
+}
+
+/// The samplers' definitions written one value at a time, without the
+/// caches and blocks of the fast paths, which must give the same bits.
+#[cfg(test)]
+mod reference {
+    use super::*;
+
+    /// Sobol' dimension `d` of sample `index` of `pixel`.
+    pub fn sobol_value(seed: u64, pixel: UVec2, index: u32, d: u32) -> f32 {
+        let pixel_key = pixel_hash(seed, pixel);
+        let group = (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ (d / 2) as u64) >> 32) as u32;
+        let index = sobol::nested_uniform_scramble(index, group);
+        let key = (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
+        u32_to_unit_f32(sobol::nested_uniform_scramble(
+            sobol::sobol(index as u64, (d % 2) as usize),
+            key,
+        ))
+    }
+
+    /// Halton dimension `d` of sample `index` of `pixel` for `spp`.
+    pub fn halton_value(seed: u64, spp: u32, pixel: UVec2, index: u32, d: u32) -> f32 {
+        let pixel_key = pixel_hash(seed, pixel);
+        if d >= 64 {
+            let h = mix64(pixel_key ^ HALTON_SALT ^ ((d as u64) << 32 | index as u64));
+            return u32_to_unit_f32((h >> 32) as u32);
+        }
+        let base = PRIMES[d as usize];
+        // The fewest digits k with base^k >= spp, within the f32 cells.
+        let (mut k, mut cells) = (0, 1u64);
+        while cells < spp as u64 && cells * base as u64 <= 1 << 24 {
+            cells *= base as u64;
+            k += 1;
+        }
+        let cells = cells as u32;
+        let mut key = mix64(pixel_key ^ HALTON_SALT ^ d as u64);
+        if index / cells > 0 {
+            key = mix64(key ^ (index / cells) as u64);
+        }
+        let mut i = index % cells;
+        let mut stratum = 0;
+        for _ in 0..k {
+            let digit = i % base;
+            i /= base;
+            let permuted = if base == 2 {
+                digit ^ (key >> 63) as u32
+            } else {
+                let a = 1 + (((key >> 32) * (base as u64 - 1)) >> 32) as u32;
+                let c = (((key & 0xffff_ffff) * base as u64) >> 32) as u32;
+                (a * digit + c) % base
+            };
+            stratum = stratum * base + permuted;
+            key = (key ^ (digit as u64 + 1)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            key ^= key >> 29;
+        }
+        let j = u32_to_unit_f32((mix64(key) >> 32) as u32);
+        stratum_point(stratum, j, cells, 1.0 / cells as f64)
+    }
+
+    /// A strata sampler that hashes every key and rebuilds every stream.
+    pub struct Strata {
+        pub spp: u32,
+        pub seed: u64,
+        pub jitter: bool,
+        pub shuffle_pixel: bool,
+        pub pixel: UVec2,
+        pub index: u32,
+        pub dimension: u32,
+        pub rng: Pcg32,
+    }
+
+    impl Strata {
+        fn stratum(&self, d: u32) -> u32 {
+            let word = d as u64 | ((self.index / self.spp) as u64) << 32;
+            let key = mix64(pixel_hash(self.seed, self.pixel) ^ PERMUTATION_SALT ^ word);
+            permute(self.index % self.spp, self.spp, (key >> 32) as u32)
+        }
+
+        fn jitter(&mut self) -> f32 {
+            let u = u32_to_unit_f32(self.rng.next_u32());
+            if self.jitter { u } else { 0.5 }
+        }
+
+        fn point_2d(&mut self, stratum: u32) -> Vec2 {
+            let (nx, ny) = grid_dims(self.spp);
+            let jx = self.jitter();
+            let jy = self.jitter();
+            Vec2::new(
+                stratum_point(stratum % nx, jx, nx, 1.0 / nx as f64),
+                stratum_point(stratum / nx, jy, ny, 1.0 / ny as f64),
+            )
+        }
+
+        pub fn start(&mut self, pixel: UVec2, index: u32) -> Vec2 {
+            (self.pixel, self.index, self.dimension) = (pixel, index, 2);
+            self.rng = pixel_sample_rng(self.seed, pixel, index);
+            let s = if self.shuffle_pixel {
+                self.stratum(0)
+            } else {
+                index % self.spp
+            };
+            self.point_2d(s)
+        }
+
+        pub fn next_1d(&mut self) -> f32 {
+            let s = self.stratum(self.dimension);
+            self.dimension = self.dimension.wrapping_add(1);
+            let j = self.jitter();
+            stratum_point(s, j, self.spp, 1.0 / self.spp as f64)
+        }
+
+        pub fn next_2d(&mut self) -> Vec2 {
+            let s = self.stratum(self.dimension);
+            self.dimension = self.dimension.wrapping_add(2);
+            self.point_2d(s)
+        }
+    }
+}
+
+#[cfg(test)]
+mod fast_paths {
+    use super::*;
+
+    /// Pseudo-random visits: pixels from a small set (so the per-pixel
+    /// caches hit and miss), indices within and beyond spp, and a mixed
+    /// sequence of 1D and 2D draws after each start.
+    fn visits(spp: u32, mut f: impl FnMut(UVec2, u32, &[bool])) {
+        let mut rng = Pcg32::new(spp as u64, STREAM);
+        let pixels = [
+            UVec2::new(0, 0),
+            UVec2::new(1, 0),
+            UVec2::new(17, 3),
+            UVec2::new(u32::MAX, u32::MAX),
+        ];
+        let mut draws = [false; 48];
+        for _ in 0..300 {
+            let pixel = pixels[(rng.next_u32() % 4) as usize];
+            let index = match rng.next_u32() % 8 {
+                0 => u32::MAX - rng.next_u32() % 64,
+                _ => rng.next_u32() % (3 * spp.min(1000)),
+            };
+            let n = (rng.next_u32() % 48) as usize;
+            for d in &mut draws[..n] {
+                *d = rng.next_u32().is_multiple_of(3); // true: a 2D draw
+            }
+            // The samples of one pixel in a row, as a renderer takes them.
+            for k in 0..1 + rng.next_u32() % 3 {
+                f(pixel, index.wrapping_add(k), &draws[..n]);
+            }
+        }
+    }
+
+    const SPPS: [u32; 9] = [1, 2, 3, 7, 16, 30, 64, 100, 256];
+
+    fn check_strata<const JITTER: bool>(spp: u32) {
+        // The grid keeps its pixel strata in raster order.
+        let shuffle = JITTER;
+        let seed = 11 + spp as u64;
+        let mut fast = Strata::<JITTER>::new(spp, seed, shuffle).unwrap();
+        let mut slow = reference::Strata {
+            spp,
+            seed,
+            jitter: JITTER,
+            shuffle_pixel: shuffle,
+            pixel: UVec2::ZERO,
+            index: 0,
+            dimension: 2,
+            rng: pixel_sample_rng(0, UVec2::ZERO, 0),
+        };
+        visits(spp, |pixel, index, draws| {
+            fast.start(pixel, index, shuffle);
+            assert_eq!(fast.pixel_2d, slow.start(pixel, index), "spp {spp}");
+            for &two in draws {
+                if two {
+                    assert_eq!(fast.next_2d(), slow.next_2d(), "spp {spp}");
+                } else {
+                    assert_eq!(fast.next_1d(), slow.next_1d(), "spp {spp}");
+                }
+            }
+        });
+    }
+
+    #[test]
+    fn strata_equal_their_definition() {
+        for spp in SPPS {
+            check_strata::<true>(spp);
+            check_strata::<false>(spp);
+        }
+    }
+
+    #[test]
+    fn sobol_equals_its_definition() {
+        for spp in SPPS {
+            let seed = 5 + spp as u64;
+            let mut s = Sobol::new(spp, seed).unwrap();
+            visits(spp, |pixel, index, draws| {
+                let want = |d| reference::sobol_value(seed, pixel, index, d);
+                s.start_pixel_sample(pixel, index);
+                assert_eq!(s.pixel_2d(), Vec2::new(want(0), want(1)));
+                let mut d = 2u32;
+                for &two in draws {
+                    if two {
+                        d += d & 1;
+                        assert_eq!(s.next_2d(), Vec2::new(want(d), want(d + 1)), "dim {d}");
+                        d += 2;
+                    } else {
+                        assert_eq!(s.next_1d(), want(d), "dim {d}");
+                        d += 1;
+                    }
+                }
+            });
+        }
+        // Dimensions far out, where keys are not kept, and at the wrap.
+        let mut s = Sobol::new(4, 9).unwrap();
+        for d in [31, 32, 33, 1000, u32::MAX - 9, u32::MAX - 1] {
+            s.start_pixel_sample(UVec2::new(3, 4), 2);
+            s.dimension = d;
+            let v = s.next_1d();
+            assert_eq!(
+                v,
+                reference::sobol_value(9, UVec2::new(3, 4), 2, d),
+                "dim {d}"
+            );
+        }
+    }
+
+    #[test]
+    fn halton_equals_its_definition() {
+        for spp in [1, 6, 16, 100] {
+            let seed = 3 + spp as u64;
+            let mut s = Halton::new(spp, seed).unwrap();
+            visits(spp, |pixel, index, draws| {
+                let want = |d| reference::halton_value(seed, spp, pixel, index, d);
+                s.start_pixel_sample(pixel, index);
+                assert_eq!(s.pixel_2d(), Vec2::new(want(0), want(1)));
+                let mut d = 2u32;
+                for &two in draws {
+                    if two {
+                        assert_eq!(s.next_2d(), Vec2::new(want(d), want(d + 1)), "dim {d}");
+                        d += 2;
+                    } else {
+                        assert_eq!(s.next_1d(), want(d), "dim {d}");
+                        d += 1;
+                    }
+                }
+            });
+        }
+    }
+
+    #[test]
+    fn halton_bases_match_their_loop() {
+        for (d, b) in HALTON.iter().enumerate() {
+            assert_eq!(b.base, PRIMES[d]);
+            for x in [0, 1, b.base - 1, b.base, 12345, u32::MAX - 1, u32::MAX] {
+                assert_eq!(b.div_rem(x), (x / b.base, x % b.base), "base {}", b.base);
+                assert_eq!(b.rem(x), x % b.base);
+            }
+            let cells = (b.base as u64).pow(b.levels);
+            assert!(cells <= 1 << 24 && cells * b.base as u64 > 1 << 24);
+        }
+        let digits = |d: usize, spp| HALTON[d].digits_for(spp);
+        assert_eq!(
+            [digits(0, 1), digits(0, 16), digits(0, 17)],
+            [(0, 1), (4, 16), (5, 32)]
+        );
+        assert_eq!([digits(1, 16), digits(63, 16)], [(3, 27), (1, 311)]);
+        assert_eq!(digits(0, u32::MAX), (24, 1 << 24));
     }
 }

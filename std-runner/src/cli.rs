@@ -222,6 +222,9 @@ pub struct BenchArgs {
     /// Shortest duration of one timing, in milliseconds.
     #[arg(long, default_value_t = 100, value_parser = value_parser!(u64).range(1..=MAX_MIN_TIME_MS))]
     pub min_time_ms: u64,
+    /// Run only this group of comparisons [default: all].
+    #[arg(long, value_enum)]
+    pub group: Option<crate::bench::Group>,
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {

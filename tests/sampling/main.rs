@@ -12,6 +12,7 @@
 //! | `filters` | filters integrate to 1; filter importance sampling is unbiased |
 //! | `convergence` | stratified and low-discrepancy errors order as the lecture says |
 //! | `spectrum` | the samplers' periodograms: flat, blue, spiky |
+//! | `limits` | every sampler at its limits: spp, dimensions, the largest pixel and index |
 
 #[path = "../support/mod.rs"]
 mod support;
@@ -20,6 +21,7 @@ mod chi2;
 mod convergence;
 mod filters;
 mod independence;
+mod limits;
 mod onb;
 mod order;
 mod round_trip;

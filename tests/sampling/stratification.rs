@@ -286,28 +286,48 @@ fn halton_is_stratified_in_its_bases() {
     }
 }
 
-/// Later passes fit with earlier ones: indices `0..2·spp` of an
-/// Owen-scrambled Halton sampler fill the `2·spp` strata of base 2 (and
-/// `0..3·spp` the strata of base 3) once each, as one sequence would.
+/// Indices come in blocks of `b^k` per base (`b^k` the smallest power of
+/// the base at least spp): every block `[j·b^k, (j+1)·b^k)` fills the
+/// `b^k` strata once each, and a later block is scrambled afresh (its
+/// strata come in another order).
 #[test]
-fn halton_passes_continue_one_sequence() {
+fn halton_blocks_are_fresh_stratified_sets() {
     use strata::Halton;
+    let mut reordered = 0;
     for seed in 0..50u64 {
-        for (spp, dim, base, n) in [(4u32, 0usize, 2u32, 8u32), (3, 1, 3, 9), (8, 0, 2, 32)] {
+        // (spp, dimension, its base's b^k)
+        for (spp, dim, n) in [
+            (4u32, 0usize, 4u32),
+            (3, 1, 3),
+            (8, 0, 8),
+            (5, 0, 8),
+            (5, 1, 9),
+        ] {
             let mut s = Halton::new(spp, seed).unwrap();
-            let mut cells = vec![0u32; n as usize];
-            for i in 0..n {
-                s.start_pixel_sample(UVec2::new(3, 8), i);
-                let p = s.pixel_2d();
-                let v = if dim == 0 { p.x } else { p.y };
-                cells[(v as f64 * n as f64) as usize] += 1;
+            let mut orders = Vec::new();
+            for block in 0..3 {
+                let mut cells = vec![0u32; n as usize];
+                let mut order = Vec::new();
+                for i in block * n..(block + 1) * n {
+                    s.start_pixel_sample(UVec2::new(3, 8), i);
+                    let p = s.pixel_2d();
+                    let v = if dim == 0 { p.x } else { p.y };
+                    let c = (v as f64 * n as f64) as usize;
+                    cells[c] += 1;
+                    order.push(c);
+                }
+                assert!(
+                    cells.iter().all(|&c| c == 1),
+                    "seed {seed} spp {spp} dim {dim} block {block}: {cells:?}"
+                );
+                orders.push(order);
             }
-            assert!(
-                cells.iter().all(|&c| c == 1),
-                "seed {seed} spp {spp} base {base}: {cells:?}"
-            );
+            reordered += (orders[0] != orders[1]) as u32 + (orders[1] != orders[2]) as u32;
         }
     }
+    // 500 block pairs; a fresh scramble repeats the order with probability
+    // 1/n! (at most 1/6 here).
+    assert!(reordered > 350, "{reordered} of 500 block pairs reordered");
 }
 
 /// The (0,2)-sequence property of the first two Sobol' dimensions beyond

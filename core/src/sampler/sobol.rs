@@ -14,111 +14,90 @@
 //!   `2^k` equal strata exactly once;
 //! - pairs are decorrelated from each other and pixels from each other.
 //!
-//! Only Sobol' dimensions 0 and 1 are drawn; the table keeps 2 and 3 for a
-//! 4D padding.
+//! # Building blocks
 //!
-//! Direction numbers: dimension 0 is van der Corput; 1–3 come from the
-//! rows for dimensions 2–4 of Joe and Kuo's `new-joe-kuo-6.21201` (2008),
+//! A sampler that draws the same scrambled sequence in its own index order
+//! (a 64-bit one, say) uses these; a `_rev` suffix means the bits of a
+//! fraction are reversed (bit `a` is the digit of weight `2^-(a+1)`), the
+//! domain in which both Sobol' matrices and Owen scrambling are cheap:
+//!
+//! - [`sobol_rev`] and [`sobol`]: Sobol' dimensions 0 and 1 of a 64-bit
+//!   index as 32-bit fractions;
+//! - [`laine_karras`]: the hash that scrambles a `_rev` value;
+//! - [`nested_uniform_scramble`]: the Owen scramble of a fraction, or the
+//!   shuffle of an index that keeps aligned blocks of `2^k` together.
+//!
+//! # Evaluation
+//!
+//! Dimension 0 is van der Corput's (the index reversed), so its `_rev` form
+//! is the index itself. Dimension 1 is Pascal's triangle mod 2 (Joe and
+//! Kuo's first row: `s = 1`, `a = 0`, `m₁ = 1`): by Lucas's theorem digit
+//! `a` of its value is the XOR of the index bits `j ⊇ a` (bitwise), a
+//! superset sum that five shift-and-mask steps compute (six for a 64-bit
+//! index). So a value needs no table: with `i'` the scrambled index,
+//! `value = reverse(laine_karras(sobol_rev(i', d % 2), key))`. The sampler
+//! evaluates sixteen dimensions at a time as independent lanes, which a
+//! compiler turns into SIMD; integer lanes give the same bits at any
+//! width. The tests check both matrices against the direction numbers.
+//!
+//! Direction numbers: dimension 0 is van der Corput; dimension 1 is the
+//! row for dimension 2 of Joe and Kuo's `new-joe-kuo-6.21201` (2008),
 //! whose licence is in `core/data/LICENSE-JOE-KUO.txt`.
 
-/// `(s, a, m₁..m_s)` of Sobol' dimensions 1–3 (Joe and Kuo, rows 2–4).
-const JOE_KUO: [(u32, u32, [u32; 3]); 3] =
-    [(1, 0, [1, 0, 0]), (2, 1, [1, 3, 0]), (3, 1, [1, 3, 1])];
+/// Dimensions a [`Sobol`](super::Sobol) block evaluates at once: eight
+/// pairs.
+pub(crate) const BLOCK: usize = 16;
 
-/// The 32 direction vectors of Sobol' dimension `dim` (0–3), MSB-aligned:
-/// bit `j` of an index contributes `v[j]`.
-const fn directions(dim: usize) -> [u32; 32] {
-    let mut v = [0u32; 32];
-    let mut j = 0;
-    if dim == 0 {
-        while j < 32 {
-            v[j] = 1 << (31 - j);
-            j += 1;
-        }
-        return v;
-    }
-    let (s, a, m) = JOE_KUO[dim - 1];
-    let s = s as usize;
-    while j < 32 {
-        if j < s {
-            v[j] = m[j] << (31 - j);
-        } else {
-            let mut x = v[j - s] ^ (v[j - s] >> s);
-            let mut k = 1;
-            while k < s {
-                if (a >> (s - 1 - k)) & 1 == 1 {
-                    x ^= v[j - k];
-                }
-                k += 1;
-            }
-            v[j] = x;
-        }
-        j += 1;
-    }
-    v
-}
-
-const DIRECTIONS: [[u32; 32]; 4] = [directions(0), directions(1), directions(2), directions(3)];
-
-/// The Sobol' matrices as byte tables: `TABLES[dim][k][b]` is the XOR of
-/// the direction vectors selected by byte `b` at byte position `k` of the
-/// index. Four lookups replace a 32-step bit loop (16 KiB, built at
-/// compile time).
-static TABLES: [[[u32; 256]; 4]; 4] = byte_tables();
-
-const fn byte_tables() -> [[[u32; 256]; 4]; 4] {
-    let mut t = [[[0u32; 256]; 4]; 4];
-    let mut dim = 0;
-    while dim < 4 {
-        let mut k = 0;
-        while k < 4 {
-            let mut b = 0;
-            while b < 256 {
-                let mut x = 0u32;
-                let mut bit = 0;
-                while bit < 8 {
-                    if (b >> bit) & 1 == 1 {
-                        x ^= DIRECTIONS[dim][8 * k + bit];
-                    }
-                    bit += 1;
-                }
-                t[dim][k][b] = x;
-                b += 1;
-            }
-            k += 1;
-        }
-        dim += 1;
-    }
-    t
-}
-
-/// Sobol' point `index` in dimension `dim` (0–3) as a 32-bit fraction.
+/// Sobol' point `index` in dimension `dim` (0 or 1; taken mod 2) as a
+/// bit-reversed 32-bit fraction: bit `a` is the digit of weight
+/// `2^-(a+1)`. Every bit of a 64-bit index counts (dimension 0 ignores the
+/// high 32, whose digits lie below `2^-32`).
 #[inline]
-pub(crate) fn sobol(index: u32, dim: usize) -> u32 {
-    let t = &TABLES[dim & 3];
-    let b = index.to_le_bytes();
-    t[0][b[0] as usize] ^ t[1][b[1] as usize] ^ t[2][b[2] as usize] ^ t[3][b[3] as usize]
+#[must_use]
+pub(crate) const fn sobol_rev(index: u64, dim: usize) -> u32 {
+    if dim & 1 == 0 {
+        return index as u32;
+    }
+    // Superset sums over the six bits of a position: after the step for
+    // bit b, position i (bit b clear) also holds position i + 2^b.
+    let mut x = index;
+    x ^= (x >> 1) & 0x5555_5555_5555_5555;
+    x ^= (x >> 2) & 0x3333_3333_3333_3333;
+    x ^= (x >> 4) & 0x0f0f_0f0f_0f0f_0f0f;
+    x ^= (x >> 8) & 0x00ff_00ff_00ff_00ff;
+    x ^= (x >> 16) & 0x0000_ffff_0000_ffff;
+    x ^= x >> 32;
+    x as u32
 }
 
-/// The reference bit loop the tables replace (for the tests).
-#[cfg(test)]
-fn sobol_bits(mut index: u32, dim: usize) -> u32 {
-    let v = &DIRECTIONS[dim & 3];
-    let (mut x, mut j) = (0, 0);
-    while index != 0 {
-        if index & 1 == 1 {
-            x ^= v[j];
-        }
-        index >>= 1;
-        j += 1;
-    }
-    x
+/// [`sobol_rev`] of a 32-bit index in dimension 1: the superset sums of
+/// its five position bits.
+#[inline]
+const fn pascal_rev(mut x: u32) -> u32 {
+    x ^= (x >> 1) & 0x5555_5555;
+    x ^= (x >> 2) & 0x3333_3333;
+    x ^= (x >> 4) & 0x0f0f_0f0f;
+    x ^= (x >> 8) & 0x00ff_00ff;
+    x ^ (x >> 16)
+}
+
+/// Sobol' point `index` in dimension `dim` (0 or 1) as a 32-bit fraction,
+/// most significant digit first: `sobol_rev(index, dim).reverse_bits()`.
+#[cfg_attr(
+    not(test),
+    expect(dead_code, reason = "for samplers that index the sequence themselves")
+)]
+#[inline]
+#[must_use]
+pub(crate) const fn sobol(index: u64, dim: usize) -> u32 {
+    sobol_rev(index, dim).reverse_bits()
 }
 
 /// The Laine–Karras permutation as Burley improves it: output bit `j`
 /// depends only on input bits `0..=j` and the seed.
 #[inline]
-fn laine_karras(mut x: u32, seed: u32) -> u32 {
+#[must_use]
+pub(crate) const fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
     x ^= x.wrapping_mul(0xb82f_1e52);
@@ -130,14 +109,88 @@ fn laine_karras(mut x: u32, seed: u32) -> u32 {
 /// A nested uniform (Owen) scramble of `x` keyed by `seed`: bit `j` is
 /// flipped by a hash of the bits above it. As a shuffle of indices it
 /// keeps every aligned block of `2^k` indices together.
+#[cfg_attr(
+    not(test),
+    expect(dead_code, reason = "for samplers that index the sequence themselves")
+)]
 #[inline]
-pub(crate) fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+#[must_use]
+pub(crate) const fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// Dimensions `16b .. 16b + 16` of one sample, as the 24-bit integers
+/// `u32_to_unit_f32` scales: `index_rev` is the sample index reversed,
+/// `pair_keys[l]` the index shuffle of lane `l`'s pair, `dim_keys[l]` its
+/// output scramble. Lanes are independent (SIMD-friendly).
+#[inline]
+pub(crate) fn padded_block(
+    index_rev: u32,
+    pair_keys: &[u32; BLOCK],
+    dim_keys: &[u32; BLOCK],
+) -> [u32; BLOCK] {
+    let mut out = [0u32; BLOCK];
+    for l in 0..BLOCK {
+        // The scrambled index i' = nested_uniform_scramble(index, pair key).
+        let index = laine_karras(index_rev, pair_keys[l]).reverse_bits();
+        // Odd lanes are Sobol' dimension 1 (a select, not a branch).
+        let odd = 0u32.wrapping_sub(l as u32 & 1);
+        let rev = index ^ ((pascal_rev(index) ^ index) & odd);
+        out[l] = laine_karras(rev, dim_keys[l]).reverse_bits() >> 8;
+    }
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `(s, a, m₁..m_s)` of Sobol' dimension 1 (Joe and Kuo, row 2).
+    const JOE_KUO: (u32, u32, [u32; 1]) = (1, 0, [1]);
+
+    /// The 64 direction vectors of Sobol' dimension `dim` (0 or 1),
+    /// MSB-aligned: bit `j` of an index contributes `v[j]`. Digits below
+    /// `2^-32` are dropped, which the recurrence allows: it only shifts
+    /// right, so no dropped digit ever moves up.
+    fn directions(dim: usize) -> [u32; 64] {
+        let mut v = [0u32; 64];
+        if dim == 0 {
+            for (j, v) in v.iter_mut().enumerate().take(32) {
+                *v = 1 << (31 - j);
+            }
+            return v;
+        }
+        let (s, a, m) = JOE_KUO;
+        let s = s as usize;
+        for j in 0..64 {
+            v[j] = if j < s {
+                m[j] << (31 - j)
+            } else {
+                let mut x = v[j - s] ^ (v[j - s] >> s);
+                for k in 1..s {
+                    if (a >> (s - 1 - k)) & 1 == 1 {
+                        x ^= v[j - k];
+                    }
+                }
+                x
+            };
+        }
+        v
+    }
+
+    /// The matrix product by the bit loop.
+    fn sobol_bits(mut index: u64, dim: usize) -> u32 {
+        let v = directions(dim);
+        let (mut x, mut j) = (0, 0);
+        while index != 0 {
+            if index & 1 == 1 {
+                x ^= v[j];
+            }
+            index >>= 1;
+            j += 1;
+        }
+        x
+    }
 
     #[test]
     fn first_points_are_the_textbook_ones() {
@@ -148,16 +201,39 @@ mod tests {
     }
 
     #[test]
-    fn tables_equal_the_bit_loop() {
-        let mut x = 0x1234_5678u32;
+    fn superset_sums_equal_the_direction_numbers() {
+        let mut x = 0x1234_5678_9abc_def0u64;
         for _ in 0..100_000 {
-            x = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
-            for d in 0..4 {
-                assert_eq!(sobol(x, d), sobol_bits(x, d), "index {x} dim {d}");
+            x = x
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            for i in [x, x >> 32, x & 0xffff] {
+                for d in 0..2 {
+                    assert_eq!(sobol(i, d), sobol_bits(i, d), "index {i} dim {d}");
+                }
+                assert_eq!(pascal_rev(i as u32), sobol_rev(i as u32 as u64, 1));
             }
         }
-        for i in [0, 1, u32::MAX, 1 << 31] {
-            assert_eq!(sobol(i, 0), i.reverse_bits()); // van der Corput
+        for i in [0, 1, u32::MAX as u64, 1 << 31, 1 << 32, u64::MAX] {
+            assert_eq!(sobol(i, 0), (i as u32).reverse_bits()); // van der Corput
+            assert_eq!(sobol(i, 1), sobol_bits(i, 1));
+        }
+    }
+
+    #[test]
+    fn block_equals_the_scalar_definition() {
+        // Each lane: scramble the index, take the Sobol' point, scramble it.
+        let pair: [u32; BLOCK] =
+            core::array::from_fn(|l| (l as u32 / 2).wrapping_mul(0x9e37_79b9) ^ 0xdead_beef);
+        let mut dim: [u32; BLOCK] = core::array::from_fn(|l| l as u32 * 7 + 1);
+        dim[3] = u32::MAX;
+        for index in [0u32, 1, 5, 1000, u32::MAX] {
+            let block = padded_block(index.reverse_bits(), &pair, &dim);
+            for l in 0..BLOCK {
+                let i = nested_uniform_scramble(index, pair[l]);
+                let v = nested_uniform_scramble(sobol(i as u64, l % 2), dim[l]);
+                assert_eq!(block[l], v >> 8, "index {index} lane {l}");
+            }
         }
     }
 

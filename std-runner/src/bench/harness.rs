@@ -15,6 +15,8 @@ pub struct Options {
     pub repetitions: usize,
     /// Shortest duration of one timing.
     pub min_time: Duration,
+    /// Run only this group of comparisons (`None`: all of them).
+    pub group: Option<Group>,
 }
 
 impl Default for Options {
@@ -22,6 +24,33 @@ impl Default for Options {
         Self {
             repetitions: 5,
             min_time: Duration::from_millis(100),
+            group: None,
+        }
+    }
+}
+
+/// A group of comparisons of the suite.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Group {
+    /// Mappings, analytic vs rejection, and the samplers.
+    Sampling,
+    /// Scalar vs 1×8 vs packet ray–sphere tests.
+    Intersection,
+    /// The BVH against brute force, and its build.
+    Bvh,
+    /// Whole renders on 1 and 2 threads.
+    Rendering,
+}
+
+impl Group {
+    /// The number of comparisons the group runs.
+    #[must_use]
+    pub const fn comparisons(self) -> u64 {
+        match self {
+            Group::Sampling => 6,
+            Group::Intersection => 8,
+            Group::Bvh => 6 + 1,
+            Group::Rendering => 3,
         }
     }
 }

@@ -13,6 +13,9 @@
 //!   scene's structures or the thread pool), with the CPU seconds per wall
 //!   second of the 2-thread runs, so a busy neighbour shows.
 //!
+//! `--group` runs one of the groups; `examples/sampler_cost.rs` runs the
+//! sampler workload alone, for instruction counters.
+//!
 //! Method: each comparison's contenders run interleaved, one after the
 //! other (forwards, then backwards in the next repetition), in every
 //! repetition: one warm-up repetition, then `repetitions` timed ones. Each timing repeats its work until it lasts at least
@@ -25,7 +28,7 @@ mod harness;
 mod suite;
 
 pub use harness::{
-    Figure, Goal, MIN_JUDGED_CORES, Options, PACKET_TARGET, Ratio, Report, Stat, Verdict,
+    Figure, Goal, Group, MIN_JUDGED_CORES, Options, PACKET_TARGET, Ratio, Report, Stat, Verdict,
     cpu_model, process_cpu_seconds, table, target,
 };
 pub use suite::{COMPARISONS, run_suite};

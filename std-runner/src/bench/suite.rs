@@ -12,7 +12,7 @@ use crate::render::{Job, run};
 use crate::scenes::{SceneBuffers, built_in};
 use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
 
-use super::harness::{Contender, Done, Options, Report, Suite, contender, cpu_model, goals};
+use super::harness::{Contender, Done, Group, Options, Report, Suite, contender, cpu_model, goals};
 
 fn uniforms(n: usize) -> Vec<Vec2> {
     let mut rng = Pcg32::new(7, STREAM);
@@ -448,10 +448,19 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
         effective_cores: vec![],
         progress,
     };
-    sampling(&mut s)?;
-    intersection(&mut s)?;
-    bvh(&mut s)?;
-    rendering(&mut s)?;
+    let runs = |g: Group| options.group.is_none_or(|only| only == g);
+    if runs(Group::Sampling) {
+        sampling(&mut s)?;
+    }
+    if runs(Group::Intersection) {
+        intersection(&mut s)?;
+    }
+    if runs(Group::Bvh) {
+        bvh(&mut s)?;
+    }
+    if runs(Group::Rendering) {
+        rendering(&mut s)?;
+    }
     let goals = goals(&s.ratios, &s.effective_cores);
     Ok(Report {
         version: env!("CARGO_PKG_VERSION").into(),
@@ -466,5 +475,8 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
     })
 }
 
-/// The number of comparisons the suite runs (for a progress bar).
-pub const COMPARISONS: u64 = 6 + 8 + 6 + 1 + 3;
+/// The number of comparisons the whole suite runs (for a progress bar).
+pub const COMPARISONS: u64 = Group::Sampling.comparisons()
+    + Group::Intersection.comparisons()
+    + Group::Bvh.comparisons()
+    + Group::Rendering.comparisons();

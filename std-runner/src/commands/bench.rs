@@ -19,8 +19,13 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let options = Options {
         repetitions: args.repetitions as usize,
         min_time: std::time::Duration::from_millis(args.min_time_ms),
+        group: args.group,
     };
-    let bar = progress_bar(COMPARISONS, "{spinner} {pos}/{len} {wide_msg}");
+    let bar = progress_bar(
+        args.group
+            .map_or(COMPARISONS, crate::bench::Group::comparisons),
+        "{spinner} {pos}/{len} {wide_msg}",
+    );
     let report = run_suite(options, &|name| {
         bar.set_message(name.to_string());
         bar.inc(1);
