@@ -26,6 +26,7 @@
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
 //! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', groups of 4 |
 //! | [`Halton`] | Owen-scrambled Halton, bases 2 and 3 | Owen-scrambled Halton, the next prime bases |
+//! | [`ZSobol`] | one Owen-scrambled Sobol' sequence over the image, along a hashed Morton curve | the same, keyed per dimension |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
 //! ([`grid_dims`]): 16 → 4 × 4, 30 → 6 × 5, 12 → 4 × 3, 7 → 7 × 1. A prime
@@ -40,6 +41,11 @@
 //! slot `i % spp`: every run of `spp` consecutive indices starting at a
 //! multiple of `spp` is a fresh stratified set.
 //!
+//! [`ZSobol`] alone is built for an image resolution and correlates
+//! neighbouring pixels on purpose (their samples complement each other,
+//! so the error is blue noise); the others treat every pixel
+//! independently.
+//!
 //! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat a
 //! stream), and have no `Default` that would hide a seed. They are `Send +
 //! Sync`; each thread owns its own.
@@ -50,6 +56,9 @@ use rand_core::Rng;
 use crate::rng::{Pcg32, mix64, pixel_hash, pixel_sample_rng, u32_to_unit_f32};
 
 mod sobol;
+mod zsobol;
+
+pub use zsobol::{ZSobol, ZSobolError};
 
 /// The interface every sampler kind implements; generic code calls it with
 /// static dispatch.
