@@ -2,21 +2,24 @@
 //! high-spp reference, as a CSV, a log–log plot and fitted slopes.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use strata::render::Tile;
 
 use crate::cli::ConvergeArgs;
+use crate::commands::output::same_path;
 use crate::commands::{check_output_ext, height_for, resolve_scene, window_of};
 use crate::image_io::{say, write_atomic};
 use crate::limits::MAX_PIXELS;
 use crate::plot;
 use crate::render::SamplerKind;
+use crate::spectrum::{ErrorSpectrum, LOW_BAND};
+use crate::study;
 
 /// Runs `strata converge`.
 pub fn converge(args: &ConvergeArgs) -> Result<()> {
-    use crate::study::{self, View};
+    use crate::study::View;
     let scene = resolve_scene(&args.scene)?;
     let width = args.width.unwrap_or(scene.defaults.width);
     let height = height_for(&scene, width)?;
@@ -32,10 +35,16 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             height: (height / 2).max(1),
         },
     };
-    let mut spps = vec![1u32, 4, 16, 64, 256];
+    let mut spps = if args.spps.is_empty() {
+        vec![1u32, 4, 16, 64, 256]
+    } else {
+        args.spps.clone()
+    };
     if args.with_1024 {
         spps.push(1024);
     }
+    spps.sort_unstable();
+    spps.dedup();
     let top = *spps.last().expect("spp list");
     // The reference's own error adds to every measured point: at 16 times
     // the largest spp it adds at most about 3 % to the last point's RMSE.
@@ -68,6 +77,19 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("converge-{}.png", scene.name)));
     check_output_ext(&csv_path, "csv", "--csv")?;
     check_output_ext(&plot_path, "png", "--plot")?;
+    let spectrum_paths = match &args.error_spectrum {
+        Some(p) => {
+            check_output_ext(p, "png", "--error-spectrum")?;
+            let csv = p.with_extension("csv");
+            for (other, flag) in [(&plot_path, "--plot"), (&csv_path, "--csv")] {
+                if same_path(p, other) || same_path(&csv, other) {
+                    bail!("--error-spectrum `{}` would overwrite {flag}", p.display());
+                }
+            }
+            Some((p.clone(), csv))
+        }
+        None => None,
+    };
     let cache_dir = args
         .cache_dir
         .clone()
@@ -101,7 +123,20 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
-    let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
+    let (points, spectra) = if spectrum_paths.is_some() {
+        let both = study::converge_with_error_spectra(
+            &view,
+            &samplers,
+            &spps,
+            args.seeds,
+            &reference,
+            &|_| {},
+        )?;
+        (both.iter().map(|b| b.0).collect(), Some(both))
+    } else {
+        let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
+        (points, None)
+    };
 
     let title = format!(
         "{}: RMSE of a {}x{} crop vs spp",
@@ -149,5 +184,76 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         csv_path.display(),
         plot_path.display()
     ));
+    if let (Some(spectra), Some((png, csv))) = (spectra, spectrum_paths) {
+        write_error_spectra(
+            &spectra,
+            &samplers,
+            &spps,
+            args.seeds,
+            &scene.name,
+            &png,
+            &csv,
+        )?;
+    }
+    Ok(())
+}
+
+/// The error-spectrum view: its table, plot and CSV.
+fn write_error_spectra(
+    spectra: &[(study::Point, ErrorSpectrum)],
+    samplers: &[SamplerKind],
+    spps: &[u32],
+    seeds: u32,
+    scene: &str,
+    png: &Path,
+    csv: &Path,
+) -> Result<()> {
+    let first = samplers[0];
+    let find = |s: SamplerKind, spp: u32| {
+        spectra
+            .iter()
+            .find(|(p, _)| p.sampler == s && p.spp == spp)
+            .expect("every sampler at every spp")
+    };
+    let mut table = format!(
+        "error spectrum over {seeds} seed(s); low band: below {LOW_BAND} cycles per pixel; \
+         ratios to {}\n{:>6} {:<12} {:>10} {:>7} {:>11} {:>7} {:>10}",
+        first.name(),
+        "spp",
+        "sampler",
+        "RMSE",
+        "ratio",
+        "low power",
+        "ratio",
+        "low/total"
+    );
+    for &spp in spps {
+        let (p0, s0) = find(first, spp);
+        for &s in samplers {
+            let (p, e) = find(s, spp);
+            let low = e.band_power(LOW_BAND);
+            write!(
+                table,
+                "\n{spp:>6} {:<12} {:>10.4e} {:>7.3} {:>11.4e} {:>7.3} {:>10.3}",
+                s.name(),
+                p.rmse,
+                p.rmse / p0.rmse,
+                low,
+                low / s0.band_power(LOW_BAND),
+                low / e.total_power()
+            )
+            .ok();
+        }
+    }
+    say(&table);
+    let title = format!("{scene}: radial power spectrum of the error (luminance)");
+    let plot = study::plot_error_spectra(spectra, &title, 800, 560)?;
+    let text = study::error_csv(spectra);
+    plot::write_png(png, &plot, 800, 560)?;
+    if let Err(e) = write_atomic(csv, |tmp| Ok(std::fs::write(tmp, &text)?)) {
+        std::fs::remove_file(png).ok();
+        return Err(e.context(format!("writing `{}`", csv.display())));
+    }
+    say(&format!("wrote {} and {}", png.display(), csv.display()));
     Ok(())
 }

@@ -55,7 +55,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if adaptive.is_some() && args.sampler == SamplerKind::Grid {
         bail!(
             "--adaptive needs a sampler whose first samples spread over the pixel \
-             (independent, stratified, sobol, halton): the grid fills its rows in order"
+             (independent, stratified, sobol, halton, zsobol): the grid fills its rows in order"
         );
     }
     // The sampler's pattern holds every sample a pixel may take.
