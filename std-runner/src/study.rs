@@ -225,39 +225,11 @@ pub struct Point {
 }
 
 /// Renders `view` with every sampler at every spp for seeds `0..seeds`
-/// and measures RMSE against `reference`; `progress` gets each finished
-/// point.
+/// and measures RMSE against `reference`; with `spectra`, also the
+/// periodogram of each point's error images (luminance, mean removed)
+/// averaged over the seeds: where in frequency each sampler puts its
+/// error. `progress` gets each finished point.
 pub fn converge(
-    view: &View<'_>,
-    samplers: &[SamplerKind],
-    spps: &[u32],
-    seeds: u32,
-    reference: &[Vec3],
-    progress: &dyn Fn(&Point),
-) -> Result<Vec<Point>> {
-    let points = measure(view, samplers, spps, seeds, reference, false, progress)?;
-    Ok(points.into_iter().map(|(p, _)| p).collect())
-}
-
-/// [`converge`], and for each point the periodogram of its error images
-/// (luminance, mean removed) averaged over the seeds: where in frequency
-/// each sampler puts its error.
-pub fn converge_with_error_spectra(
-    view: &View<'_>,
-    samplers: &[SamplerKind],
-    spps: &[u32],
-    seeds: u32,
-    reference: &[Vec3],
-    progress: &dyn Fn(&Point),
-) -> Result<Vec<(Point, ErrorSpectrum)>> {
-    let points = measure(view, samplers, spps, seeds, reference, true, progress)?;
-    Ok(points
-        .into_iter()
-        .map(|(p, s)| (p, s.expect("spectra were asked for")))
-        .collect())
-}
-
-fn measure(
     view: &View<'_>,
     samplers: &[SamplerKind],
     spps: &[u32],

@@ -372,21 +372,49 @@ fn zsobol_draws<S: Sampler>(s: &mut S, pixel: UVec2, index: u32) -> (Vec<Vec2>, 
     (vec![p, b, d], vec![a, c])
 }
 
-/// Checks that `values` (a power-of-two count) fill as many equal strata
-/// of [0, 1) once each.
-fn assert_strata(values: &[f32], what: &str) {
-    let n = values.len();
-    let mut counts = vec![0u32; n];
-    for &v in values {
-        counts[(v as f64 * n as f64) as usize] += 1;
+/// The draws of every (pixel, index) of `samples`, gathered per draw: the
+/// three 2D draws' point sets and the two 1D draws' value sets.
+fn gather<S: Sampler>(
+    s: &mut S,
+    samples: impl IntoIterator<Item = (UVec2, u32)>,
+) -> (Vec<Vec<Vec2>>, Vec<Vec<f32>>) {
+    let (mut sets, mut ones) = (vec![Vec::new(); 3], vec![Vec::new(); 2]);
+    for (pixel, i) in samples {
+        let (two, one) = zsobol_draws(s, pixel, i);
+        two.into_iter()
+            .zip(&mut sets)
+            .for_each(|(v, set)| set.push(v));
+        one.into_iter()
+            .zip(&mut ones)
+            .for_each(|(v, set)| set.push(v));
     }
-    assert!(counts.iter().all(|&c| c == 1), "{what}: {counts:?}");
+    (sets, ones)
+}
+
+/// Every 2D draw of `gathered` is a (0, k, 2)-net and every 1D draw fills
+/// 2^k strata once each.
+fn assert_gathered_nets((sets, ones): &(Vec<Vec<Vec2>>, Vec<Vec<f32>>), k: u32, what: &str) {
+    for (j, pts) in sets.iter().enumerate() {
+        assert_net(pts, k, &format!("{what} 2D draw {j}"));
+    }
+    for (j, values) in ones.iter().enumerate() {
+        let n = values.len();
+        let mut counts = vec![0u32; n];
+        for &v in values {
+            counts[(v as f64 * n as f64) as usize] += 1;
+        }
+        assert!(
+            counts.iter().all(|&c| c == 1),
+            "{what} 1D draw {j}: {counts:?}"
+        );
+    }
 }
 
 /// ZSobol': with 2^k samples, each pixel's samples (every pass of them)
 /// are a (0, k, 2)-net in the pixel position and in every 2D draw, and
 /// fill 2^k strata in every 1D draw, as Sobol' does, for pixels inside
-/// and outside the resolution.
+/// and outside the resolution (a 2^20-wide one makes 40-bit and wider
+/// indices).
 #[test]
 fn zsobol_pixels_are_nets() {
     use strata::ZSobol;
@@ -401,24 +429,9 @@ fn zsobol_pixels_are_nets() {
                 let mut s = ZSobol::new(n, seed, res).unwrap();
                 for pixel in PIXELS {
                     for pass in [0, 1, 7] {
-                        let mut sets: Vec<Vec<Vec2>> = vec![Vec::new(); 3];
-                        let mut ones: Vec<Vec<f32>> = vec![Vec::new(); 2];
-                        for i in pass * n..(pass + 1) * n {
-                            let (two, one) = zsobol_draws(&mut s, pixel, i);
-                            two.into_iter()
-                                .zip(&mut sets)
-                                .for_each(|(v, set)| set.push(v));
-                            one.into_iter()
-                                .zip(&mut ones)
-                                .for_each(|(v, set)| set.push(v));
-                        }
+                        let g = gather(&mut s, (pass * n..(pass + 1) * n).map(|i| (pixel, i)));
                         let what = format!("seed {seed} res {res} {pixel} pass {pass}");
-                        for (j, pts) in sets.iter().enumerate() {
-                            assert_net(pts, k, &format!("{what} 2D draw {j}"));
-                        }
-                        for (j, v) in ones.iter().enumerate() {
-                            assert_strata(v, &format!("{what} 1D draw {j}"));
-                        }
+                        assert_gathered_nets(&g, k, &what);
                     }
                 }
             }
@@ -436,21 +449,8 @@ fn zsobol_pixel_blocks_are_nets_and_sobol_blocks_are_not() {
     use strata::{Sobol, ZSobol};
     fn block<S: Sampler>(s: &mut S, origin: UVec2, side: u32) -> (Vec<Vec<Vec2>>, Vec<Vec<f32>>) {
         let n = s.samples_per_pixel();
-        let (mut sets, mut ones) = (vec![Vec::new(); 3], vec![Vec::new(); 2]);
-        for y in 0..side {
-            for x in 0..side {
-                for i in 0..n {
-                    let (two, one) = zsobol_draws(s, origin + UVec2::new(x, y), i);
-                    two.into_iter()
-                        .zip(&mut sets)
-                        .for_each(|(v, set)| set.push(v));
-                    one.into_iter()
-                        .zip(&mut ones)
-                        .for_each(|(v, set)| set.push(v));
-                }
-            }
-        }
-        (sets, ones)
+        let pixels = (0..side * side).map(move |p| origin + UVec2::new(p % side, p / side));
+        gather(s, pixels.flat_map(|p| (0..n).map(move |i| (p, i))))
     }
     for seed in [1u64, 99] {
         for k in 0..=4u32 {
@@ -463,14 +463,8 @@ fn zsobol_pixel_blocks_are_nets_and_sobol_blocks_are_not() {
                     UVec2::new(312, 176),
                 ] {
                     let origin = origin / side * side;
-                    let (sets, ones) = block(&mut s, origin, side);
                     let what = format!("seed {seed} spp {} block {origin} side {side}", 1 << k);
-                    for (j, pts) in sets.iter().enumerate() {
-                        assert_net(pts, 2 * a + k, &format!("{what} 2D draw {j}"));
-                    }
-                    for (j, v) in ones.iter().enumerate() {
-                        assert_strata(v, &format!("{what} 1D draw {j}"));
-                    }
+                    assert_gathered_nets(&block(&mut s, origin, side), 2 * a + k, &what);
                 }
             }
         }
@@ -502,13 +496,8 @@ fn zsobol_prefixes_and_other_spp() {
         for (spp, prefix) in [(16u32, 4u32), (16, 1), (32, 2), (32, 8), (8, 2), (64, 16)] {
             let mut s = ZSobol::new(spp, seed, UVec2::new(100, 100)).unwrap();
             let pixel = UVec2::new(seed as u32 * 3, 41);
-            let mut pts = [Vec::new(), Vec::new()];
-            for i in 0..prefix {
-                let (two, _) = zsobol_draws(&mut s, pixel, i);
-                pts[0].push(two[0]);
-                pts[1].push(two[2]);
-            }
-            for p in &pts {
+            let (sets, _) = gather(&mut s, (0..prefix).map(|i| (pixel, i)));
+            for p in &sets {
                 assert_net(
                     p,
                     prefix.trailing_zeros(),
@@ -519,11 +508,11 @@ fn zsobol_prefixes_and_other_spp() {
         for spp in [3u32, 6, 12, 100] {
             let block = spp.next_power_of_two();
             let mut s = ZSobol::new(spp, seed, UVec2::new(100, 100)).unwrap();
+            let (_, ones) = gather(&mut s, (0..spp).map(|i| (UVec2::new(5, seed as u32), i)));
             let mut counts = vec![0u32; block as usize];
-            for i in 0..spp {
-                let (_, one) = zsobol_draws(&mut s, UVec2::new(5, seed as u32), i);
-                counts[(one[1] as f64 * block as f64) as usize] += 1;
-            }
+            ones[1]
+                .iter()
+                .for_each(|&v| counts[(v as f64 * block as f64) as usize] += 1);
             assert!(
                 counts.iter().all(|&c| c <= 1),
                 "seed {seed} spp {spp}: {counts:?}"

@@ -229,9 +229,7 @@ impl core::error::Error for ZSobolError {}
 ///   `4096 × 4096` image at 256 spp needs 32 bits, one of `2^32 × 2^32`
 ///   pixels at 1 spp 64. Every bit counts: the second Sobol' dimension's
 ///   generator matrix has a one in the top row of every column (the top
-///   bit of `y` is the parity of the index), so it takes 64 columns. The
-///   first is the identity, and an `f32` keeps 24 bits of it, so a 1D
-///   draw permutes only the digits below bit 24.
+///   bit of `y` is the parity of the index), so it takes 64 columns.
 /// - **Pixels outside the resolution** (a filter's reach, a caller's
 ///   choice) are valid: their coordinates are taken modulo `2^r` and the
 ///   quotient keys every hash like a pass, so they get an independent
@@ -250,9 +248,12 @@ impl core::error::Error for ZSobolError {}
 ///
 /// # Cost
 ///
-/// A draw hashes once per permuted digit: `r + ⌈k/2⌉` digits for a 2D
-/// draw (at most 32), at most 12 for a 1D draw. A `320 × 180` image at
-/// 16 spp has 11.
+/// A draw hashes once per permuted digit, `r + ⌈k/2⌉` digits (at most
+/// 32; 11 for a `320 × 180` image at 16 spp). The `r` pixel digits of the
+/// first 64 dimensions are remembered from one sample of a pixel to the
+/// next, so while a pixel's samples are drawn in a row (as a tile renders
+/// them), a draw hashes only its `⌈k/2⌉` slot digits. The memo never
+/// changes a value: any order gives the same bits.
 ///
 /// ```
 /// use glam::UVec2;
@@ -283,7 +284,18 @@ pub struct ZSobol {
     key: u64,
     dimension: u32,
     pixel: Vec2,
+    /// A memo, never a source of values: the permuted pixel digits of
+    /// dimensions `0..CACHED_DIMENSIONS` (bit `d` of `cached` says whether
+    /// entry `d` is filled) for the pixel and key of `cache_tag`. They do
+    /// not depend on the sample's slot, so the samples of one pixel hash
+    /// only their slot digits (a tile renders a pixel's samples in a row).
+    cache: [u64; CACHED_DIMENSIONS],
+    cached: u64,
+    cache_tag: (u64, u64),
 }
+
+/// How many dimensions' pixel digits a [`ZSobol`] remembers.
+const CACHED_DIMENSIONS: usize = 64;
 
 impl ZSobol {
     /// A ZSobol' sampler of `spp` samples per pixel for an image of
@@ -327,6 +339,9 @@ impl ZSobol {
             key: 0,
             dimension: 2,
             pixel: Vec2::ZERO,
+            cache: [0; CACHED_DIMENSIONS],
+            cached: 0,
+            cache_tag: (u64::MAX, 0),
         };
         s.start_pixel_sample(UVec2::ZERO, 0);
         Ok(s)
@@ -340,22 +355,23 @@ impl ZSobol {
         2 * self.resolution_bits + self.block_bits
     }
 
-    /// The current sample's Morton index after the digit permutations of
-    /// dimension key `dkey`, up to bit `top` (the bits above are left 0):
-    /// the index of its Sobol' point.
+    /// The digits of the current sample's Morton index from bit `lo` to
+    /// bit `hi`, each through the permutation that dimension key `dkey` and
+    /// the digits above it choose (the bits outside are left 0). `lo` is 0
+    /// or `k`: the slot digits or the pixel digits.
     #[inline]
-    fn sequence_index(&self, dkey: u64, top: u32) -> u64 {
+    fn permute_digits(&self, dkey: u64, lo: u32, hi: u32) -> u64 {
         let m = self.morton;
         let mut out = 0u64;
-        let mut shift = 0;
-        if self.block_bits & 1 == 1 {
+        let mut shift = lo;
+        if shift == 0 && self.block_bits & 1 == 1 {
             // The lone lowest bit: flipped by a hash of everything above,
             // marked by a set bit 0 so no other digit's word equals it.
             let word = m | 1;
             out |= (m & 1) ^ (mix64(word ^ dkey) >> 63);
             shift = 1;
         }
-        while shift < top {
+        while shift < hi {
             // The digits above this one, with a marker bit at the top of
             // this digit's place: distinct for every (level, prefix). (At
             // shift 62 nothing is above: the mask wraps to all ones.)
@@ -370,6 +386,23 @@ impl ZSobol {
         out
     }
 
+    /// The current sample's Morton index after the digit permutations of
+    /// dimension `d` (key `dkey`): the index of its Sobol' point.
+    #[inline]
+    fn sequence_index(&mut self, d: u32, dkey: u64) -> u64 {
+        let k = self.block_bits;
+        let pixel_digits = if (d as usize) < CACHED_DIMENSIONS {
+            if self.cached >> d & 1 == 0 {
+                self.cache[d as usize] = self.permute_digits(dkey, k, self.index_bits());
+                self.cached |= 1 << d;
+            }
+            self.cache[d as usize]
+        } else {
+            self.permute_digits(dkey, k, self.index_bits())
+        };
+        pixel_digits | self.permute_digits(dkey, 0, k)
+    }
+
     /// The key of dimension `d` of the current sample: its low half
     /// scrambles the first Sobol' dimension, its high half the second.
     #[inline]
@@ -377,13 +410,12 @@ impl ZSobol {
         mix64(self.key ^ ZSOBOL_DIM_SALT ^ d as u64)
     }
 
-    /// Dimension `d` as a 1D draw: the first Sobol' dimension, which only
-    /// the index's low 24 bits reach at `f32` precision (its matrix is the
-    /// identity).
+    /// Dimension `d` as a 1D draw: the first Sobol' dimension (whose
+    /// matrix is the identity, so the index's low 32 bits are all of it).
     #[inline]
-    fn value_1d(&self, d: u32) -> f32 {
+    fn value_1d(&mut self, d: u32) -> f32 {
         let dkey = self.dimension_key(d);
-        let i = self.sequence_index(dkey, self.index_bits().min(24));
+        let i = self.sequence_index(d, dkey);
         let x = sobol::sobol(i as u32, 0);
         u32_to_unit_f32(sobol::nested_uniform_scramble(x, dkey as u32))
     }
@@ -391,9 +423,9 @@ impl ZSobol {
     /// Dimensions `d` and `d + 1` as a 2D draw: the first two Sobol'
     /// dimensions of one index.
     #[inline]
-    fn value_2d(&self, d: u32) -> Vec2 {
+    fn value_2d(&mut self, d: u32) -> Vec2 {
         let dkey = self.dimension_key(d);
-        let i = self.sequence_index(dkey, self.index_bits());
+        let i = self.sequence_index(d, dkey);
         let x = sobol::sobol(i as u32, 0);
         let y = sobol::sobol(i as u32, 1) ^ high_columns((i >> 32) as u32);
         Vec2::new(
@@ -431,7 +463,12 @@ impl Sampler for ZSobol {
             pass_key(self.seed_key, tile, pass)
         };
         // 2r + k ≤ 64, checked at construction.
-        self.morton = morton2((x & low) as u32, (y & low) as u32) << self.block_bits | slot as u64;
+        let pixel_index = morton2((x & low) as u32, (y & low) as u32);
+        if (pixel_index, self.key) != self.cache_tag {
+            self.cache_tag = (pixel_index, self.key);
+            self.cached = 0;
+        }
+        self.morton = pixel_index << self.block_bits | slot as u64;
         self.dimension = 2;
         self.pixel = self.value_2d(0);
     }
@@ -519,7 +556,7 @@ mod tests {
                 let mut block = None;
                 for i in 0..spp {
                     s.start_pixel_sample(pixel, i);
-                    let j = s.sequence_index(s.dimension_key(7), 64) as u32;
+                    let j = s.sequence_index(7, s.dimension_key(7)) as u32;
                     let b = *block.get_or_insert(j >> k);
                     assert_eq!(j >> k, b, "spp {spp} {pixel}: slot {i} left its block");
                     assert!(!seen[(j & (spp - 1)) as usize]);
@@ -593,6 +630,34 @@ mod tests {
                 assert_eq!(s.next_2d().to_array(), want, "{pixel} dimension {d}");
                 s.dimension = d;
                 assert_eq!(s.next_1d(), want[0], "{pixel} dimension {d}, 1D");
+            }
+        }
+    }
+
+    /// The pixel-digit memo never changes a value: a sampler that has just
+    /// drawn other samples of the pixel (of this pass or another, and past
+    /// the memo's 64 dimensions) gives the bits of a fresh one.
+    #[test]
+    fn the_memo_never_changes_a_value() {
+        let proto = ZSobol::new(8, 3, UVec2::new(40, 30)).unwrap();
+        let mut warm = proto.clone();
+        let visits = [
+            (3, 4, 0),
+            (3, 4, 5),
+            (3, 4, 9),
+            (3, 4, 1),
+            (4, 4, 1),
+            (3, 4, 2),
+        ];
+        for (x, y, i) in visits {
+            let pixel = UVec2::new(x, y);
+            warm.start_pixel_sample(pixel, i);
+            let mut fresh = proto.clone();
+            fresh.start_pixel_sample(pixel, i);
+            assert_eq!(warm.pixel_2d(), fresh.pixel_2d());
+            for d in 0..50 {
+                assert_eq!(warm.next_2d(), fresh.next_2d(), "{pixel} #{i} draw {d}");
+                assert_eq!(warm.next_1d(), fresh.next_1d(), "{pixel} #{i} draw {d}");
             }
         }
     }

@@ -123,20 +123,16 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
-    let (points, spectra) = if spectrum_paths.is_some() {
-        let both = study::converge_with_error_spectra(
-            &view,
-            &samplers,
-            &spps,
-            args.seeds,
-            &reference,
-            &|_| {},
-        )?;
-        (both.iter().map(|b| b.0).collect(), Some(both))
-    } else {
-        let points = study::converge(&view, &samplers, &spps, args.seeds, &reference, &|_| {})?;
-        (points, None)
-    };
+    let measured = study::converge(
+        &view,
+        &samplers,
+        &spps,
+        args.seeds,
+        &reference,
+        spectrum_paths.is_some(),
+        &|_| {},
+    )?;
+    let points: Vec<study::Point> = measured.iter().map(|m| m.0).collect();
 
     let title = format!(
         "{}: RMSE of a {}x{} crop vs spp",
@@ -184,7 +180,11 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         csv_path.display(),
         plot_path.display()
     ));
-    if let (Some(spectra), Some((png, csv))) = (spectra, spectrum_paths) {
+    if let Some((png, csv)) = spectrum_paths {
+        let spectra: Vec<(study::Point, ErrorSpectrum)> = measured
+            .into_iter()
+            .filter_map(|(p, s)| Some((p, s?)))
+            .collect();
         write_error_spectra(
             &spectra,
             &samplers,
