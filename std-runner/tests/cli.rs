@@ -1428,17 +1428,24 @@ fn zsobol_renders_split_and_merges_like_the_other_samplers() {
     assert!(said.contains("6 spp (zsobol"), "{said}");
 }
 
-/// `converge --error-spectrum`: a radial plot and its CSV of each
-/// point's error periodogram, and a table of RMSE and low-band power as
-/// ratios to the first sampler; bad paths are refused before any work.
+/// `converge --error-spectrum` on the example scene it is shown with: a
+/// radial plot and its CSV of each point's error periodogram, and a table
+/// of RMSE and low-band power as ratios to the first sampler; bad paths
+/// are refused before any work.
 #[test]
 fn converge_error_spectrum_writes_plot_csv_and_ratios() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/scenes/soft-light.toml"
+    );
     let said = ok(
         d,
         &[
             "converge",
+            "--scene",
+            scene,
             "--width",
             "32",
             "--pixel-bounds",
