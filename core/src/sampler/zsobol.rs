@@ -190,9 +190,9 @@ impl core::error::Error for ZSobolError {}
 /// The shuffled index selects a point of the Sobol' (0, 2)-sequence
 /// (dimensions 0 and 1 for a 2D draw, dimension 0 for a 1D one), which is
 /// then Owen-scrambled by a key of `(seed, d)` (Burley 2020, see
-/// [`Sobol`](super::Sobol)). The keys depend on the dimension, not on the pixel:
-/// every pixel draws from the same scrambled sequence, which is what lets
-/// neighbours complement each other.
+/// [`Sobol`](super::Sobol)). The keys depend on the dimension, not on the
+/// pixel: every pixel draws from the same scrambled sequence, which is
+/// what lets neighbours complement each other.
 ///
 /// # What it guarantees
 ///
@@ -218,9 +218,9 @@ impl core::error::Error for ZSobolError {}
 /// - **spp that is not a power of two.** A pixel takes the first `spp`
 ///   slots of its block of `2^k`: still unbiased, and its first `2^j`
 ///   samples are still nets as above, but the block is not filled, so
-///   neighbours complement each other only in part. (pbrt-v4 instead renders the
-///   power of two below, with a warning; here the count asked for is the
-///   count rendered.) Powers of two are what the method is for.
+///   neighbours complement each other only in part. (pbrt-v4 instead
+///   renders the power of two below, with a warning; here the count asked
+///   for is the count rendered.) Powers of two are what the method is for.
 /// - **Sample indices `i ≥ spp`** start pass `i / spp`, which keys every
 ///   hash: each pass is a fresh, independently scrambled ZSobol' pattern
 ///   over the image (for adaptive sampling and split renders).
@@ -237,9 +237,9 @@ impl core::error::Error for ZSobolError {}
 /// - **One scramble per image.** Every pixel shares the scrambled
 ///   sequence of a dimension, so how well one seed stratifies (the
 ///   scramble's few top-level choices) shows in the whole image: an
-///   image's error varies more from seed to seed than with [`Sobol`](super::Sobol),
-///   whose pixels average over independent scrambles. The mean over
-///   seeds is the same.
+///   image's error varies more from seed to seed than with
+///   [`Sobol`](super::Sobol), whose pixels average over independent
+///   scrambles. The mean over seeds is the same.
 /// - **Dimensions.** [`Sampler::next_2d`] takes two dimensions and does not
 ///   align them (each draw has its own permutation and scramble); the
 ///   first value of a 2D draw at `d` equals a 1D draw at `d`. At the
