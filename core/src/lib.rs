@@ -28,7 +28,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`rng`] | per-sample stream derivation, `u32 → f32` in `[0, 1)` |
-//! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`], [`Sobol`], [`Halton`] |
+//! | [`sampler`] | the [`Sampler`] trait; [`Independent`], [`UniformGrid`], [`Stratified`], [`Sobol`], [`Halton`], [`ZSobol`] |
 //! | [`mapping`] | sample / pdf / invert triads: sphere, hemispheres, disks, cone, the tabulated [`mapping::PiecewiseConstant2D`]; [`mapping::rejection`] keeps the course's methods |
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
 //! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
@@ -124,4 +124,4 @@ pub mod sampler;
 pub mod trace;
 
 pub use onb::Onb;
-pub use sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+pub use sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};

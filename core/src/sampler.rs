@@ -26,6 +26,7 @@
 //! | [`Stratified`] | jittered `nx × ny` strata, shuffled | jittered strata, shuffled |
 //! | [`Sobol`] | Owen-scrambled Sobol' `(0, 2)`-sequence | padded Owen-scrambled Sobol', in pairs |
 //! | [`Halton`] | Owen-scrambled Halton, bases 2 and 3 | Owen-scrambled Halton, the next prime bases |
+//! | [`ZSobol`] | one Owen-scrambled Sobol' sequence over the image, along a hashed Morton curve | the same, keyed per dimension |
 //!
 //! `nx × ny = spp` is the factorisation closest to square with `nx ≥ ny`
 //! ([`grid_dims`]): 16 → 4 × 4, 30 → 6 × 5, 12 → 4 × 3, 7 → 7 × 1. A prime
@@ -51,8 +52,10 @@
 //! | [`UniformGrid`], [`Stratified`] | 1 to [`MAX_STRATA_SPP`] `= 2²⁴`; `new` returns `None` beyond | `spp` strata per dimension | unbounded | pass `i / spp`: a fresh stratified set |
 //! | [`Sobol`] | 1 to `u32::MAX` | `2^k` strata with `2^k` samples up to `k = 24`, the `f32` resolution; with `2^k > 2²⁴` samples each of the `2²⁴` values of a dimension comes `2^(k−24)` times | unbounded | the sequence goes on: every aligned block of `2^k` indices is a net |
 //! | [`Halton`] | 1 to `u32::MAX` | `b^k` strata in base `b`, `b^k` the least power `≥ spp`, at most `2²⁴` | 0–63: the prime bases 2–311; from 64 on: independent uniforms hashed from `(seed, pixel, index, d)` | blocks of `b^k` indices, each a fresh stratified set |
+//! | [`ZSobol`] | 1 to `u32::MAX`, as long as `2r + k ≤ 64` bits (`2^r ≥` the larger side, `2^k ≥ spp`); [`ZSobol::new`] refuses beyond | with `spp = 2^k`: `2^k` strata per pixel, `4^a · 2^k` per aligned `2^a × 2^a` pixel block; other spp take the first `spp` slots of `2^k` | unbounded | pass `i / spp`: a fresh, independently scrambled pattern |
 //!
-//! No kind forms a global index from the pixel and the sample index: the
+//! Apart from [`ZSobol`] (whose 64-bit index is the point), no kind forms a
+//! global index from the pixel and the sample index: the
 //! index is the pixel's own `u32`, and the pixel is hashed with `px` and
 //! `py` in separate halves of a 64-bit word. So nothing overflows however
 //! large the image or spp: every pixel in `u32 × u32` and every index up
@@ -60,6 +63,11 @@
 //! samplers the last pass, `u32::MAX / spp`, ends at `u32::MAX` and is
 //! short unless spp divides `2³²`.) The dimension counter is a `u32` as
 //! well: after `2³²` draws in one sample it wraps to dimension 0.
+//!
+//! [`ZSobol`] alone is built for an image resolution and correlates
+//! neighbouring pixels on purpose (their samples complement each other,
+//! so the error is blue noise); the others treat every pixel
+//! independently.
 //!
 //! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat a
 //! stream), and have no `Default` that would hide a seed. They are `Send +
@@ -71,6 +79,9 @@ use rand_core::Rng;
 use crate::rng::{Pcg32, STREAM, mix64, pixel_hash, pixel_sample_rng, u32_to_unit_f32};
 
 mod sobol;
+mod zsobol;
+
+pub use zsobol::{ZSobol, ZSobolError};
 
 /// The interface every sampler kind implements; generic code calls it with
 /// static dispatch.

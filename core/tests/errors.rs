@@ -32,6 +32,11 @@ fn core_errors_read_as_one_sentence() {
             material: 4,
             error: MaterialError::Colour,
         }),
+        Box::new(strata::sampler::ZSobolError::IndexTooWide {
+            spp: 8,
+            resolution: glam::UVec2::new(1 << 31, 3),
+            bits: 65,
+        }),
     ];
     for e in &errors {
         let text = e.to_string();
@@ -42,6 +47,11 @@ fn core_errors_read_as_one_sentence() {
     assert!(errors[1].to_string().contains("`nodes`"));
     assert!(errors[2].to_string().contains("sphere 7"));
     assert!(errors[5].to_string().contains("63"));
+    assert!(
+        errors[9]
+            .to_string()
+            .contains("2147483648 x 3 pixels needs a 65-bit")
+    );
     // The inner error's text is in the message, and not repeated as a
     // source (a chained report prints each once).
     let scene = &errors[8];

@@ -138,6 +138,14 @@ fn sampler_lock() {
         halton,
         "{CHANGED}"
     );
+    let zsobol = [0x3e92464c, 0x3d41ca40, 0x3f2971f7, 0x3f48054f, 0x3e94588a];
+    let mut z = strata::ZSobol::new(16, 2026, UVec2::new(320, 180)).unwrap();
+    assert_eq!(first_values(&mut z), zsobol, "{CHANGED}");
+    // A 48-bit Morton index: the permuted index reaches the columns of
+    // Sobol' dimension 1 beyond bit 32.
+    let wide = [0x3ed76230, 0x3f498e8b, 0x3f1210fb, 0x3f48fd44, 0x3eadc392];
+    let mut z = strata::ZSobol::new(256, 2026, UVec2::splat(1 << 20)).unwrap();
+    assert_eq!(first_values(&mut z), wide, "{CHANGED}");
 }
 
 /// FNV-1a over 32-bit words. Its own copy: this test belongs to the core

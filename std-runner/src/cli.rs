@@ -106,8 +106,11 @@ pub struct ConvergeArgs {
     #[arg(long, value_enum, value_delimiter = ',')]
     pub samplers: Vec<SamplerKind>,
     /// Also measure 1024 spp (after 1, 4, 16, 64, 256).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "spps")]
     pub with_1024: bool,
+    /// The spp measured, comma-separated [default: 1,4,16,64,256].
+    #[arg(long, value_delimiter = ',', value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
+    pub spps: Vec<u32>,
     /// Samples per pixel of the reference (Sobol'), at least 16 times the
     /// largest measured spp.
     #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
@@ -129,6 +132,13 @@ pub struct ConvergeArgs {
     /// The plot written, a PNG [default: converge-SCENE.png].
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// Also measure where the error lies in frequency: the periodogram of
+    /// each point's error image (luminance, mean removed), averaged over
+    /// the seeds, plotted radially to this PNG with its CSV beside it
+    /// (same name, .csv); prints each sampler's power below 0.125 cycles
+    /// per pixel and its RMSE as ratios to the first sampler's.
+    #[arg(long)]
+    pub error_spectrum: Option<PathBuf>,
 }
 
 /// `strata aliasing` flags.

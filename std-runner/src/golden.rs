@@ -121,6 +121,15 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("horizon", "file.png", 0x48f5456a29856ed1),
     ("horizon", "file.exr", 0x09f1f0e1751be195),
     ("horizon", "file.film", 0x07b7081baf32d3d3),
+    ("week09", "zsobol", 0xc51a6e4b93c45b74),
+    ("cover", "zsobol", 0xce56cb08457f5d8f),
+    ("showcase", "zsobol", 0x8489a2810577e7db),
+    ("horizon", "zsobol", 0x9fad9dcef5b0c84d),
+    (
+        "examples/scenes/materials.toml",
+        "zsobol",
+        0xd86847d06851a30b,
+    ),
 ];
 
 /// The files locked byte for byte for each built-in scene: the golden

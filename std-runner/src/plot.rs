@@ -49,6 +49,7 @@ pub(crate) fn colour(sampler: SamplerKind) -> RGBColor {
         SamplerKind::Stratified => RGBColor(0x1f, 0x77, 0xb4),
         SamplerKind::Sobol => RGBColor(0x2c, 0xa0, 0x2c),
         SamplerKind::Halton => RGBColor(0x94, 0x67, 0xbd),
+        SamplerKind::ZSobol => RGBColor(0xff, 0x7f, 0x0e),
     }
 }
 

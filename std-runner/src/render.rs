@@ -8,12 +8,13 @@ use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
+use glam::UVec2;
 use rayon::prelude::*;
 use strata::render::{
     Adaptive, Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile,
     render_tile_adaptive,
 };
-use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::scenes::{BvhMode, SceneData};
 
@@ -30,16 +31,22 @@ pub enum SamplerKind {
     Sobol,
     /// Owen-scrambled Halton (best with spp = 2^a 3^b).
     Halton,
+    /// Sobol' shared by the whole image along a hashed Morton curve:
+    /// neighbouring pixels complement each other, so the error is blue
+    /// noise (best with a power-of-two spp).
+    #[value(name = "zsobol")]
+    ZSobol,
 }
 
 impl SamplerKind {
     /// Every sampler, in the order above.
-    pub const ALL: [SamplerKind; 5] = [
+    pub const ALL: [SamplerKind; 6] = [
         SamplerKind::Independent,
         SamplerKind::Grid,
         SamplerKind::Stratified,
         SamplerKind::Sobol,
         SamplerKind::Halton,
+        SamplerKind::ZSobol,
     ];
 
     /// The name used on the command line and in metadata.
@@ -50,20 +57,30 @@ impl SamplerKind {
             SamplerKind::Stratified => "stratified",
             SamplerKind::Sobol => "sobol",
             SamplerKind::Halton => "halton",
+            SamplerKind::ZSobol => "zsobol",
         }
     }
 
-    /// Runs `work` with the sampler of this kind for `spp` and `seed`, as
-    /// its concrete type (static dispatch: the hot loop is compiled per
-    /// kind); `None` if the kind refuses `spp`. The one place a kind
-    /// becomes a sampler.
-    pub fn with_sampler<W: WithSampler>(self, spp: u32, seed: u64, work: W) -> Option<W::Output> {
-        Some(match self {
-            SamplerKind::Independent => work.run(Independent::new(spp, seed)?),
-            SamplerKind::Grid => work.run(UniformGrid::new(spp, seed)?),
-            SamplerKind::Stratified => work.run(Stratified::new(spp, seed)?),
-            SamplerKind::Sobol => work.run(Sobol::new(spp, seed)?),
-            SamplerKind::Halton => work.run(Halton::new(spp, seed)?),
+    /// Runs `work` with the sampler of this kind for `spp`, `seed` and an
+    /// image of `resolution` pixels (only [`SamplerKind::ZSobol`] uses it),
+    /// as its concrete type (static dispatch: the hot loop is compiled per
+    /// kind); an error that says why if the kind refuses them. The one
+    /// place a kind becomes a sampler.
+    pub fn with_sampler<W: WithSampler>(
+        self,
+        spp: u32,
+        seed: u64,
+        resolution: UVec2,
+        work: W,
+    ) -> Result<W::Output> {
+        let refused = || anyhow!("--sampler {} takes no {spp} samples per pixel", self.name());
+        Ok(match self {
+            SamplerKind::Independent => work.run(Independent::new(spp, seed).ok_or_else(refused)?),
+            SamplerKind::Grid => work.run(UniformGrid::new(spp, seed).ok_or_else(refused)?),
+            SamplerKind::Stratified => work.run(Stratified::new(spp, seed).ok_or_else(refused)?),
+            SamplerKind::Sobol => work.run(Sobol::new(spp, seed).ok_or_else(refused)?),
+            SamplerKind::Halton => work.run(Halton::new(spp, seed).ok_or_else(refused)?),
+            SamplerKind::ZSobol => work.run(ZSobol::new(spp, seed, resolution)?),
         })
     }
 }
@@ -232,8 +249,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
                 progress,
             };
             job.sampler
-                .with_sampler(job.spp, job.seed, work)
-                .ok_or_else(|| anyhow!("samples per pixel out of range: {}", job.spp))?
+                .with_sampler(job.spp, job.seed, UVec2::new(job.width, job.height), work)?
         })
     })??;
     let wall = start.elapsed();

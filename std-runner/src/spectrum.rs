@@ -14,11 +14,18 @@
 //! and each factor's powers come from one complex exponential by
 //! repeated multiplication, so a pixel costs `N (2R + 1)²` complex
 //! multiply-adds for frequencies up to `R`.
+//!
+//! The second view is of a rendered image's error ([`ErrorSpectrum`],
+//! `strata converge --error-spectrum`): the periodogram of the luminance
+//! of `image − reference`, mean removed, over the image's own frequency
+//! grid (`kₓ / W`, `k_y / H` cycles per pixel). White noise (pixels with
+//! independent errors) is flat; blue noise (neighbours' errors cancel)
+//! has little power at low frequencies, where the eye sees noise most.
 
 use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
-use glam::UVec2;
+use glam::{UVec2, Vec3};
 use plotters::prelude::*;
 use rayon::prelude::*;
 use strata::Sampler;
@@ -107,10 +114,9 @@ pub fn spectrum(
     if spp == 0 || pixels == 0 || r == 0 || r > MAX_RANGE {
         bail!("spectrum of {spp} spp over {pixels} pixels up to frequency {r}: out of range");
     }
-    let made = sampler.with_sampler(spp, seed, Average { spp, pixels, r });
-    let Some(power) = made else {
-        bail!("{} takes no {spp} samples per pixel", sampler.name());
-    };
+    // The pixels are a row-major run of a 64-pixel-wide image.
+    let resolution = UVec2::new(64, pixels.div_ceil(64));
+    let power = sampler.with_sampler(spp, seed, resolution, Average { spp, pixels, r })?;
     Ok(Spectrum {
         sampler,
         spp,
@@ -187,6 +193,166 @@ fn average<S: Sampler + Clone + Send + Sync>(
         total = sums.into_iter().fold(total, add);
     }
     total.into_iter().map(|p| p / pixels as f64).collect()
+}
+
+/// The low band of the error spectra: frequencies below 0.125 cycles per
+/// pixel (wavelengths above 8 pixels).
+pub const LOW_BAND: f64 = 0.125;
+
+/// The periodogram of a rendered image's error, averaged over seeds.
+#[derive(Clone, Debug)]
+pub struct ErrorSpectrum {
+    /// Image width of the error images, in pixels.
+    pub width: usize,
+    /// Image height.
+    pub height: usize,
+    /// Error images averaged.
+    pub images: u32,
+    /// `P(kₓ, k_y) = |Σ e(x, y) e^{−2πi (kₓ x / W + k_y y / H)}|² / (W H)`
+    /// summed over the images, row-major over `k_y` then `kₓ`, each in
+    /// DFT order `0..n` (a `k > n/2` is the frequency `k − n`).
+    sum: Vec<f64>,
+}
+
+impl ErrorSpectrum {
+    /// An empty average for `width × height` error images.
+    #[must_use]
+    pub fn new(width: usize, height: usize) -> Self {
+        ErrorSpectrum {
+            width,
+            height,
+            images: 0,
+            sum: vec![0.0; width * height],
+        }
+    }
+
+    /// Adds the periodogram of the luminance error of `image` against
+    /// `reference` (linear RGB, row-major, `width × height`), its mean
+    /// removed first.
+    ///
+    /// # Panics
+    /// If either slice is not `width × height` long.
+    pub fn add(&mut self, image: &[Vec3], reference: &[Vec3]) {
+        let n = self.width * self.height;
+        assert!(image.len() == n && reference.len() == n, "image size");
+        let lum = |c: Vec3| 0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64;
+        let mut e: Vec<f64> = image
+            .iter()
+            .zip(reference)
+            .map(|(&a, &b)| lum(a) - lum(b))
+            .collect();
+        let mean = e.iter().sum::<f64>() / n as f64;
+        e.iter_mut().for_each(|v| *v -= mean);
+        let power = periodogram(&e, self.width, self.height);
+        self.sum.iter_mut().zip(power).for_each(|(s, p)| *s += p);
+        self.images += 1;
+    }
+
+    /// The frequency of DFT bin `k` of `n`, in cycles per pixel.
+    fn frequency(k: usize, n: usize) -> f64 {
+        let k = if 2 * k > n {
+            k as f64 - n as f64
+        } else {
+            k as f64
+        };
+        k / n as f64
+    }
+
+    /// Every bin as (|frequency| in cycles per pixel, mean power), the zero
+    /// frequency left out.
+    fn bins(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        let div = self.images.max(1) as f64;
+        (0..self.height).flat_map(move |ky| {
+            let fy = Self::frequency(ky, self.height);
+            (0..self.width).filter_map(move |kx| {
+                let fx = Self::frequency(kx, self.width);
+                let f = (fx * fx + fy * fy).sqrt();
+                (f > 0.0).then(|| (f, self.sum[ky * self.width + kx] / div))
+            })
+        })
+    }
+
+    /// The mean power over the frequencies with `0 < |f| < below` cycles
+    /// per pixel (0 if there are none).
+    #[must_use]
+    pub fn band_power(&self, below: f64) -> f64 {
+        let (sum, count) = self
+            .bins()
+            .filter(|&(f, _)| f < below)
+            .fold((0.0, 0u32), |(s, c), (_, p)| (s + p, c + 1));
+        if count == 0 { 0.0 } else { sum / count as f64 }
+    }
+
+    /// The mean power over every frequency but zero: the error variance
+    /// per pixel (Parseval), for normalising.
+    #[must_use]
+    pub fn total_power(&self) -> f64 {
+        self.band_power(f64::INFINITY)
+    }
+
+    /// The radial average in `bins` rings of equal width up to 0.5 cycles
+    /// per pixel, as (ring centre, mean power); empty rings are left out.
+    #[must_use]
+    pub fn radial(&self, bins: usize) -> Vec<(f64, f64)> {
+        let width = 0.5 / bins as f64;
+        let mut sum = vec![0.0; bins];
+        let mut count = vec![0u32; bins];
+        for (f, p) in self.bins() {
+            let b = (f / width) as usize;
+            if b < bins {
+                sum[b] += p;
+                count[b] += 1;
+            }
+        }
+        (0..bins)
+            .filter(|&b| count[b] > 0)
+            .map(|b| ((b as f64 + 0.5) * width, sum[b] / count[b] as f64))
+            .collect()
+    }
+}
+
+/// `|DFT(e)|² / (W H)` of a `width × height` row-major image, by separable
+/// direct transforms (`W H (W + H)` complex multiply-adds).
+fn periodogram(e: &[f64], width: usize, height: usize) -> Vec<f64> {
+    let twiddles = |n: usize| -> Vec<(f64, f64)> {
+        (0..n)
+            .map(|k| {
+                let a = -2.0 * std::f64::consts::PI * k as f64 / n as f64;
+                (a.cos(), a.sin())
+            })
+            .collect()
+    };
+    let (tx, ty) = (twiddles(width), twiddles(height));
+    // Rows: F(kx, y).
+    let mut rows = vec![(0.0f64, 0.0f64); width * height];
+    for y in 0..height {
+        let src = &e[y * width..][..width];
+        for kx in 0..width {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (x, &v) in src.iter().enumerate() {
+                let (c, s) = tx[(kx * x) % width];
+                re += v * c;
+                im += v * s;
+            }
+            rows[y * width + kx] = (re, im);
+        }
+    }
+    // Columns: F(kx, ky).
+    let mut out = vec![0.0; width * height];
+    let norm = (width * height) as f64;
+    for kx in 0..width {
+        for ky in 0..height {
+            let (mut re, mut im) = (0.0, 0.0);
+            for y in 0..height {
+                let (a, b) = rows[y * width + kx];
+                let (c, s) = ty[(ky * y) % height];
+                re += a * c - b * s;
+                im += a * s + b * c;
+            }
+            out[ky * width + kx] = (re * re + im * im) / norm;
+        }
+    }
+    out
 }
 
 /// `out[ω + r] = e^{−2πi ω t}` for `ω` in `−r..=r`.
@@ -340,6 +506,35 @@ mod tests {
                 .install(|| spectrum(SamplerKind::Sobol, 16, 1, 100, 8).unwrap().power)
         };
         assert_eq!(run(1), run(2));
+    }
+
+    #[test]
+    fn error_periodogram_finds_a_wave_and_keeps_parseval() {
+        // A cosine of 2 cycles across a 16-pixel width: all its power at
+        // kx = ±2, none at DC or elsewhere; the mean power over the
+        // non-zero frequencies is the variance (Parseval).
+        let (w, h) = (16, 8);
+        let image: Vec<Vec3> = (0..w * h)
+            .map(|i| {
+                let x = (i % w) as f64;
+                Vec3::splat((3.0 + (2.0 * std::f64::consts::TAU * x / w as f64).cos()) as f32)
+            })
+            .collect();
+        let reference = vec![Vec3::ZERO; w * h];
+        let mut s = ErrorSpectrum::new(w, h);
+        s.add(&image, &reference);
+        let p = |kx: usize, ky: usize| s.sum[ky * w + kx];
+        let n = (w * h) as f64;
+        // |Σ cos|² / n = (n/2)² / n at each of ±2 (luminance weights sum to 1).
+        assert!((p(2, 0) - n / 4.0).abs() < 1e-3 && (p(w - 2, 0) - n / 4.0).abs() < 1e-3);
+        assert!(p(0, 0).abs() < 1e-9 && p(1, 0).abs() < 1e-9 && p(2, 1).abs() < 1e-9);
+        let variance = 0.5; // of a unit cosine
+        assert!((s.total_power() * (n - 1.0) / n - variance).abs() < 1e-3);
+        // 2/16 = 0.125 cycles per pixel: not below the low band's edge.
+        assert!(s.band_power(LOW_BAND) < 1e-9);
+        assert!(s.band_power(0.13) > 0.0);
+        let radial = s.radial(4);
+        assert!(radial.iter().all(|&(f, _)| f > 0.0 && f < 0.5));
     }
 
     #[test]

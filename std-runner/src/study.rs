@@ -16,6 +16,7 @@ use crate::image_io::write_atomic;
 use crate::plot;
 use crate::render::{Job, SamplerKind, run};
 use crate::scenes::SceneData;
+use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 
 /// Root mean square error over pixels and RGB channels, in f64.
 ///
@@ -224,23 +225,32 @@ pub struct Point {
 }
 
 /// Renders `view` with every sampler at every spp for seeds `0..seeds`
-/// and measures RMSE against `reference`; `progress` gets each finished
-/// point.
+/// and measures RMSE against `reference`; with `spectra`, also the
+/// periodogram of each point's error images (luminance, mean removed)
+/// averaged over the seeds: where in frequency each sampler puts its
+/// error. `progress` gets each finished point.
 pub fn converge(
     view: &View<'_>,
     samplers: &[SamplerKind],
     spps: &[u32],
     seeds: u32,
     reference: &[Vec3],
+    spectra: bool,
     progress: &dyn Fn(&Point),
-) -> Result<Vec<Point>> {
+) -> Result<Vec<(Point, Option<ErrorSpectrum>)>> {
+    let (w, h) = (view.window.width as usize, view.window.height as usize);
     let mut out = Vec::new();
     for &sampler in samplers {
         for &spp in spps {
             let mut mse = 0.0;
+            let mut spectrum = spectra.then(|| ErrorSpectrum::new(w, h));
             for seed in 0..seeds {
-                let e = rmse(&view.render(sampler, spp, seed as u64)?, reference);
+                let image = view.render(sampler, spp, seed as u64)?;
+                let e = rmse(&image, reference);
                 mse += e * e;
+                if let Some(s) = &mut spectrum {
+                    s.add(&image, reference);
+                }
             }
             let point = Point {
                 sampler,
@@ -248,10 +258,103 @@ pub fn converge(
                 rmse: (mse / seeds as f64).sqrt(),
             };
             progress(&point);
-            out.push(point);
+            out.push((point, spectrum));
         }
     }
     Ok(out)
+}
+
+/// The rings of the error-spectrum plot and CSV, up to 0.5 cycles per
+/// pixel.
+pub const ERROR_RINGS: usize = 32;
+
+/// The radial error spectra as CSV: `frequency,SAMPLER@SPP…`, frequency in
+/// cycles per pixel (ring centres), power per pixel of error luminance.
+#[must_use]
+pub fn error_csv(points: &[(Point, ErrorSpectrum)]) -> String {
+    let mut s = String::from("frequency");
+    for (p, _) in points {
+        write!(s, ",{}@{}", p.sampler.name(), p.spp).expect("a String");
+    }
+    s.push('\n');
+    let radial: Vec<Vec<(f64, f64)>> = points.iter().map(|(_, e)| e.radial(ERROR_RINGS)).collect();
+    let rows = radial.iter().map(Vec::len).max().unwrap_or(0);
+    for i in 0..rows {
+        let f = radial.iter().find_map(|r| r.get(i)).map_or(0.0, |p| p.0);
+        write!(s, "{f:.6}").expect("a String");
+        for r in &radial {
+            match r.get(i) {
+                Some((_, p)) => write!(s, ",{p:.6e}"),
+                None => write!(s, ","),
+            }
+            .expect("a String");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Draws the radial error spectra (log power against frequency, one line
+/// per sampler and spp, lighter for fewer samples; the low band's edge
+/// dashed) into an 8-bit RGB buffer of `width × height`.
+pub fn plot_error_spectra(
+    points: &[(Point, ErrorSpectrum)],
+    title: &str,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>> {
+    let radial: Vec<Vec<(f64, f64)>> = points
+        .iter()
+        .map(|(_, e)| {
+            e.radial(ERROR_RINGS)
+                .into_iter()
+                .filter(|&(_, p)| p > 0.0)
+                .collect()
+        })
+        .collect();
+    let (y0, y1) = radial
+        .iter()
+        .flatten()
+        .fold((f64::MAX, f64::MIN), |(a, b), &(_, p)| (a.min(p), b.max(p)));
+    if y0 > y1 {
+        bail!("nothing to plot: no error power above zero");
+    }
+    let spps: Vec<u32> = {
+        let mut v: Vec<u32> = points.iter().map(|(p, _)| p.spp).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    plot::chart(width, height, |root| {
+        let mut chart = plot::titled(root, title, 70)
+            .build_cartesian_2d(0.0..0.5, (y0 / 1.5..y1 * 1.5).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency |f| (cycles per pixel)")
+            .y_desc("error power per pixel")
+            .label_style(("sans-serif", 15))
+            .max_light_lines(0)
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()?;
+        let edge = [(LOW_BAND, y0 / 1.5), (LOW_BAND, y1 * 1.5)];
+        chart
+            .draw_series(DashedLineSeries::new(edge, 6, 4, BLACK.stroke_width(1)))?
+            .label(format!("{LOW_BAND} cycles per pixel"))
+            .legend(plot::legend_line(BLACK));
+        for ((p, _), line) in points.iter().zip(&radial) {
+            // Fewer samples, lighter line: mix towards white.
+            let rank = spps.iter().position(|&s| s == p.spp).unwrap_or(0);
+            let t = 0.6 * (spps.len() - 1 - rank) as f64 / spps.len().max(1) as f64;
+            let RGBColor(r, g, b) = plot::colour(p.sampler);
+            let mix = |c: u8| (c as f64 + (255.0 - c as f64) * t).round() as u8;
+            let c = RGBColor(mix(r), mix(g), mix(b));
+            chart
+                .draw_series(LineSeries::new(line.clone(), c.stroke_width(2)))?
+                .label(format!("{}, {} spp", p.sampler.name(), p.spp))
+                .legend(plot::legend_line(c.stroke_width(2)));
+        }
+        plot::legend(&mut chart, SeriesLabelPosition::LowerRight)
+    })
 }
 
 /// The study's CSV: `sampler,spp,rmse`, one row per point.

@@ -1375,3 +1375,129 @@ fn spectrum_writes_an_image_a_plot_and_csv() {
         assert!(e.contains(want), "{args:?}: {e}");
     }
 }
+
+/// `--sampler zsobol`: the same bytes for any thread count and tile size,
+/// sample runs merge into the one-shot image, the file names its sampler,
+/// and a spp that is not a power of two is rendered as asked.
+#[test]
+fn zsobol_renders_split_and_merges_like_the_other_samplers() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let base = [
+        "render",
+        "--scene",
+        "showcase",
+        "--width",
+        "48",
+        "--spp",
+        "4",
+        "--sampler",
+        "zsobol",
+    ];
+    let run = |name: &str, extra: &[&str]| {
+        let mut args: Vec<&str> = base.to_vec();
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", name]);
+        ok(d, &args);
+        bytes(&d.join(name))
+    };
+    let one = run("z1.png", &["--threads", "1"]);
+    assert_eq!(run("z2.png", &["--threads", "2", "--tile", "5"]), one);
+    let text = String::from_utf8_lossy(&one).into_owned();
+    assert!(text.contains("zsobol"), "the metadata names the sampler");
+    run("a.film", &["--samples", "0..3"]);
+    run("b.film", &["--samples", "3..4"]);
+    ok(d, &["merge", "b.film", "a.film", "-o", "m.png"]);
+    assert_eq!(bytes(&d.join("m.png")), one);
+    let said = ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "showcase",
+            "--width",
+            "24",
+            "--spp",
+            "6",
+            "--sampler",
+            "zsobol",
+            "-o",
+            "six.png",
+        ],
+    );
+    assert!(said.contains("6 spp (zsobol"), "{said}");
+}
+
+/// `converge --error-spectrum` on the example scene it is shown with: a
+/// radial plot and its CSV of each point's error periodogram, and a table
+/// of RMSE and low-band power as ratios to the first sampler; bad paths
+/// are refused before any work.
+#[test]
+fn converge_error_spectrum_writes_plot_csv_and_ratios() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/scenes/soft-light.toml"
+    );
+    let said = ok(
+        d,
+        &[
+            "converge",
+            "--scene",
+            scene,
+            "--width",
+            "32",
+            "--pixel-bounds",
+            "0,32,0,18",
+            "--samplers",
+            "sobol,zsobol",
+            "--spps",
+            "1,4",
+            "--seeds",
+            "2",
+            "--reference-spp",
+            "64",
+            "--cache-dir",
+            "cache",
+            "--csv",
+            "c.csv",
+            "--plot",
+            "c.png",
+            "--error-spectrum",
+            "e.png",
+        ],
+    );
+    assert!(said.contains("ratios to sobol"), "{said}");
+    for row in [
+        "     1 sobol",
+        "     1 zsobol",
+        "     4 sobol",
+        "     4 zsobol",
+    ] {
+        assert!(said.contains(row), "{row}: {said}");
+    }
+    assert_eq!(png_size(&d.join("e.png")), (800, 560));
+    let csv = std::fs::read_to_string(d.join("e.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert_eq!(header, "frequency,sobol@1,sobol@4,zsobol@1,zsobol@4");
+    // A row per ring that holds a frequency, each with a value per point.
+    assert!(csv.lines().count() > 10, "{csv}");
+    assert!(
+        csv.lines().skip(1).all(|l| l.split(',').count() == 5),
+        "{csv}"
+    );
+    let base = ["converge", "--cache-dir", "cache", "--width", "32"];
+    for (extra, says) in [
+        (&["--error-spectrum", "e.csv"][..], "must end in .png"),
+        (
+            &["--error-spectrum", "c.png", "--plot", "c.png"],
+            "would overwrite --plot",
+        ),
+        (&["--spps", "0"], "0 is not in 1"),
+        (&["--spps", "4", "--with-1024"], "cannot be used with"),
+    ] {
+        let err = refused(d, &[&base[..], extra].concat());
+        assert!(err.contains(says), "{extra:?}: {err}");
+    }
+}

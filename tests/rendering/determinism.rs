@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use glam::UVec2;
 use proptest::prelude::*;
 use strata::render::{Camera, PixelFilter, PixelSum, Scene, Tile, pixel_sample};
-use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 use strata_runner::film::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
@@ -218,6 +218,12 @@ fn tiles_and_splits_do_not_change_a_bit() {
     check(&scene, &cam, Stratified::new(spp, 3).unwrap(), spp);
     check(&scene, &cam, Sobol::new(spp, 3).unwrap(), spp);
     check(&scene, &cam, Halton::new(spp, 3).unwrap(), spp);
+    check(
+        &scene,
+        &cam,
+        ZSobol::new(spp, 3, UVec2::new(29, 13)).unwrap(),
+        spp,
+    );
 }
 
 #[test]

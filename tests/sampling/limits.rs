@@ -12,7 +12,8 @@
 use crate::support::chi2::{Chi2, Domain};
 use glam::{UVec2, Vec2};
 use strata::sampler::{
-    Halton, Independent, MAX_STRATA_SPP, Sampler, Sobol, Stratified, UniformGrid,
+    Halton, Independent, MAX_STRATA_SPP, Sampler, Sobol, Stratified, UniformGrid, ZSobol,
+    ZSobolError,
 };
 
 const CHI2_TESTS: usize = 2;
@@ -198,4 +199,41 @@ fn every_sampler_works_at_the_largest_pixel_and_index() {
         "halton",
         all(false, true, false),
     );
+}
+
+/// ZSobol' takes any spp and resolution whose Morton index with the
+/// sample slot fits 64 bits, refuses the next bit, and gives values in
+/// `[0, 1)` at the extreme pixels and indices it accepts.
+#[test]
+fn zsobol_takes_every_index_that_fits_64_bits() {
+    // 2^32 slots and 2^16 x 2^16 pixels: exactly 64 bits.
+    let side = 1u32 << 16;
+    let mut s = ZSobol::new(u32::MAX, 3, UVec2::splat(side)).unwrap();
+    assert_eq!(s.index_bits(), 64);
+    assert!(matches!(
+        ZSobol::new(u32::MAX, 3, UVec2::new(side + 1, 1)),
+        Err(ZSobolError::IndexTooWide { bits: 66, .. })
+    ));
+    assert!(matches!(
+        ZSobol::new(2, 3, UVec2::splat(u32::MAX)),
+        Err(ZSobolError::IndexTooWide { bits: 65, .. })
+    ));
+    assert_eq!(
+        ZSobol::new(0, 3, UVec2::ONE).unwrap_err(),
+        ZSobolError::NoSamples
+    );
+    assert_eq!(
+        ZSobol::new(1, 3, UVec2::new(0, 5)).unwrap_err(),
+        ZSobolError::NoPixels
+    );
+    // Pixels inside and outside the resolution, the first and last index.
+    for pixel in [UVec2::ZERO, UVec2::splat(side - 1), UVec2::splat(u32::MAX)] {
+        for index in [0, u32::MAX - 1, u32::MAX] {
+            s.start_pixel_sample(pixel, index);
+            for v in [s.pixel_2d(), s.next_2d()] {
+                assert!(v.cmpge(Vec2::ZERO).all() && v.cmplt(Vec2::ONE).all(), "{v}");
+            }
+            assert!((0.0..1.0).contains(&s.next_1d()));
+        }
+    }
 }

@@ -5,7 +5,7 @@
 use glam::UVec2;
 use rand_core::Rng;
 use strata::rng::{Pcg32, STREAM};
-use strata::sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 /// Every value one sample produces, as bits: pixel 2D, then a fixed
 /// pattern of 1D and 2D draws.
@@ -95,6 +95,16 @@ fn halton_values_do_not_depend_on_order() {
 #[test]
 fn sobol_values_do_not_depend_on_order() {
     check_order_independence(Sobol::new(8, 42).unwrap(), "sobol");
+}
+
+/// ZSobol' correlates pixels through their Morton index, never through
+/// state: any visiting order gives the same bits (odd and even block
+/// sizes, and a spp that is not a power of two).
+#[test]
+fn zsobol_values_do_not_depend_on_order() {
+    for spp in [8, 2, 6] {
+        check_order_independence(ZSobol::new(spp, 42, UVec2::new(7, 6)).unwrap(), "zsobol");
+    }
 }
 
 #[test]

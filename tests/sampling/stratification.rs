@@ -378,3 +378,165 @@ fn assert_net(pts: &[Vec2], k: u32, what: &str) {
         );
     }
 }
+
+/// The draws of one ZSobol' sample: the pixel position, then 1D and 2D
+/// draws in a path's order (the 2D draws start on odd and even
+/// dimensions alike: ZSobol' does not align them).
+fn zsobol_draws<S: Sampler>(s: &mut S, pixel: UVec2, index: u32) -> (Vec<Vec2>, Vec<f32>) {
+    s.start_pixel_sample(pixel, index);
+    let p = s.pixel_2d();
+    let a = s.next_1d();
+    let b = s.next_2d();
+    let c = s.next_1d();
+    let d = s.next_2d();
+    (vec![p, b, d], vec![a, c])
+}
+
+/// The draws of every (pixel, index) of `samples`, gathered per draw: the
+/// three 2D draws' point sets and the two 1D draws' value sets.
+fn gather<S: Sampler>(
+    s: &mut S,
+    samples: impl IntoIterator<Item = (UVec2, u32)>,
+) -> (Vec<Vec<Vec2>>, Vec<Vec<f32>>) {
+    let (mut sets, mut ones) = (vec![Vec::new(); 3], vec![Vec::new(); 2]);
+    for (pixel, i) in samples {
+        let (two, one) = zsobol_draws(s, pixel, i);
+        two.into_iter()
+            .zip(&mut sets)
+            .for_each(|(v, set)| set.push(v));
+        one.into_iter()
+            .zip(&mut ones)
+            .for_each(|(v, set)| set.push(v));
+    }
+    (sets, ones)
+}
+
+/// Every 2D draw of `gathered` is a (0, k, 2)-net and every 1D draw fills
+/// 2^k strata once each.
+fn assert_gathered_nets((sets, ones): &(Vec<Vec<Vec2>>, Vec<Vec<f32>>), k: u32, what: &str) {
+    for (j, pts) in sets.iter().enumerate() {
+        assert_net(pts, k, &format!("{what} 2D draw {j}"));
+    }
+    for (j, values) in ones.iter().enumerate() {
+        let n = values.len();
+        let mut counts = vec![0u32; n];
+        for &v in values {
+            counts[(v as f64 * n as f64) as usize] += 1;
+        }
+        assert!(
+            counts.iter().all(|&c| c == 1),
+            "{what} 1D draw {j}: {counts:?}"
+        );
+    }
+}
+
+/// ZSobol': with 2^k samples, each pixel's samples (every pass of them)
+/// are a (0, k, 2)-net in the pixel position and in every 2D draw, and
+/// fill 2^k strata in every 1D draw, as Sobol' does, for pixels inside
+/// and outside the resolution (a 2^20-wide one makes 40-bit and wider
+/// indices).
+#[test]
+fn zsobol_pixels_are_nets() {
+    use strata::ZSobol;
+    for seed in [0u64, 7, 0xfeed] {
+        for res in [
+            UVec2::new(320, 180),
+            UVec2::new(1, 1),
+            UVec2::new(1 << 20, 5),
+        ] {
+            for k in 0..=8u32 {
+                let n = 1u32 << k;
+                let mut s = ZSobol::new(n, seed, res).unwrap();
+                for pixel in PIXELS {
+                    for pass in [0, 1, 7] {
+                        let g = gather(&mut s, (pass * n..(pass + 1) * n).map(|i| (pixel, i)));
+                        let what = format!("seed {seed} res {res} {pixel} pass {pass}");
+                        assert_gathered_nets(&g, k, &what);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// What makes ZSobol' blue: the samples of an aligned 2^a × 2^a block of
+/// pixels together form a (0, 2a + k, 2)-net, and fill 4^a · 2^k strata
+/// of every 1D draw, so each pixel's samples fall where its neighbours'
+/// are not. The control: Sobol' pixels are independent, so their union
+/// is not a net.
+#[test]
+fn zsobol_pixel_blocks_are_nets_and_sobol_blocks_are_not() {
+    use strata::{Sobol, ZSobol};
+    fn block<S: Sampler>(s: &mut S, origin: UVec2, side: u32) -> (Vec<Vec<Vec2>>, Vec<Vec<f32>>) {
+        let n = s.samples_per_pixel();
+        let pixels = (0..side * side).map(move |p| origin + UVec2::new(p % side, p / side));
+        gather(s, pixels.flat_map(|p| (0..n).map(move |i| (p, i))))
+    }
+    for seed in [1u64, 99] {
+        for k in 0..=4u32 {
+            for a in 1..=3u32 {
+                let side = 1 << a;
+                let mut s = ZSobol::new(1 << k, seed, UVec2::new(320, 180)).unwrap();
+                for origin in [
+                    UVec2::ZERO,
+                    UVec2::new(8 * side, 2 * side),
+                    UVec2::new(312, 176),
+                ] {
+                    let origin = origin / side * side;
+                    let what = format!("seed {seed} spp {} block {origin} side {side}", 1 << k);
+                    assert_gathered_nets(&block(&mut s, origin, side), 2 * a + k, &what);
+                }
+            }
+        }
+    }
+    // Sobol': a 2 × 2 block of one-sample pixels leaves a quarter of the
+    // 1D strata empty or doubled in most blocks.
+    let mut s = Sobol::new(1, 1).unwrap();
+    let mut failed = 0;
+    for b in 0..64 {
+        let (_, ones) = block(&mut s, UVec2::new(2 * (b % 8), 2 * (b / 8)), 2);
+        let mut counts = [0u32; 4];
+        ones[0]
+            .iter()
+            .for_each(|&v| counts[(v * 4.0) as usize] += 1);
+        failed += counts.iter().any(|&c| c != 1) as u32;
+    }
+    // 1 − 4!/4⁴ ≈ 91 % of blocks of independent pixels; asserted half.
+    assert!(failed > 32, "{failed} of 64");
+}
+
+/// A prefix of a ZSobol' pixel's samples is a net when it ends on a
+/// base-4 digit: the first 4 of 16, the first 2 and 8 of 32; and a spp
+/// that is not a power of two takes the first slots of the next power
+/// of two, so its samples never share a stratum of that power.
+#[test]
+fn zsobol_prefixes_and_other_spp() {
+    use strata::ZSobol;
+    for seed in 0..20u64 {
+        for (spp, prefix) in [(16u32, 4u32), (16, 1), (32, 2), (32, 8), (8, 2), (64, 16)] {
+            let mut s = ZSobol::new(spp, seed, UVec2::new(100, 100)).unwrap();
+            let pixel = UVec2::new(seed as u32 * 3, 41);
+            let (sets, _) = gather(&mut s, (0..prefix).map(|i| (pixel, i)));
+            for p in &sets {
+                assert_net(
+                    p,
+                    prefix.trailing_zeros(),
+                    &format!("seed {seed} {prefix} of {spp}"),
+                );
+            }
+        }
+        for spp in [3u32, 6, 12, 100] {
+            let block = spp.next_power_of_two();
+            let mut s = ZSobol::new(spp, seed, UVec2::new(100, 100)).unwrap();
+            let (_, ones) = gather(&mut s, (0..spp).map(|i| (UVec2::new(5, seed as u32), i)));
+            let mut counts = vec![0u32; block as usize];
+            ones[1]
+                .iter()
+                .for_each(|&v| counts[(v as f64 * block as f64) as usize] += 1);
+            assert!(
+                counts.iter().all(|&c| c <= 1),
+                "seed {seed} spp {spp}: {counts:?}"
+            );
+        }
+    }
+}

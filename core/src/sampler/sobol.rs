@@ -85,7 +85,10 @@ const fn pascal_rev(mut x: u32) -> u32 {
 /// most significant digit first: `sobol_rev(index, dim).reverse_bits()`.
 #[cfg_attr(
     not(test),
-    expect(dead_code, reason = "for samplers that index the sequence themselves")
+    expect(
+        dead_code,
+        reason = "the definitions tests compare the fast paths with"
+    )
 )]
 #[inline]
 #[must_use]
@@ -111,7 +114,10 @@ pub(crate) const fn laine_karras(mut x: u32, seed: u32) -> u32 {
 /// keeps every aligned block of `2^k` indices together.
 #[cfg_attr(
     not(test),
-    expect(dead_code, reason = "for samplers that index the sequence themselves")
+    expect(
+        dead_code,
+        reason = "the definitions tests compare the fast paths with"
+    )
 )]
 #[inline]
 #[must_use]

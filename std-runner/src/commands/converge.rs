@@ -1,14 +1,15 @@
 //! `strata converge`: RMSE against spp for every sampler, against a cached
 //! high-spp reference, as a CSV, a log–log plot and fitted slopes.
 
-use std::path::PathBuf;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Result, bail};
 use strata::render::{TextureFilter, Tile};
 
 use crate::cli::ConvergeArgs;
-use crate::commands::output::write_text;
+use crate::commands::output::{same_path, write_text};
 use crate::commands::{
     check_output_ext, check_pixels, height_for, resolve_scene, samplers_or_all, window_of,
 };
@@ -16,6 +17,7 @@ use crate::image_io::say;
 use crate::plot;
 use crate::render::SamplerKind;
 use crate::scenes::SceneData;
+use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 use crate::study::{self, Point, View};
 
 /// The plot's size in pixels.
@@ -47,14 +49,16 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
-    let points = study::converge(
+    let measured = study::converge(
         view,
         &plan.samplers,
         &plan.spps,
         args.seeds,
         &reference,
+        plan.error_spectrum.is_some(),
         &|_| {},
     )?;
+    let points: Vec<Point> = measured.iter().map(|m| m.0).collect();
     plan.write(&points)?;
     say(&study::table(&points, &plan.samplers, &plan.spps));
     say(&format!(
@@ -62,6 +66,13 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         plan.csv.display(),
         plan.plot.display()
     ));
+    if let Some((png, csv)) = &plan.error_spectrum {
+        let spectra: Vec<(Point, ErrorSpectrum)> = measured
+            .into_iter()
+            .filter_map(|(p, s)| Some((p, s?)))
+            .collect();
+        plan.write_error_spectra(&spectra, args.seeds, png, csv)?;
+    }
     Ok(())
 }
 
@@ -79,6 +90,8 @@ struct ConvergePlan<'a> {
     plot: PathBuf,
     /// Where the reference is cached.
     cache_dir: PathBuf,
+    /// The error-spectrum plot and its CSV, if asked for.
+    error_spectrum: Option<(PathBuf, PathBuf)>,
 }
 
 impl ConvergeArgs {
@@ -97,10 +110,16 @@ impl ConvergeArgs {
                 height: (height / 2).max(1),
             },
         };
-        let mut spps = vec![1u32, 4, 16, 64, 256];
+        let mut spps = if self.spps.is_empty() {
+            vec![1u32, 4, 16, 64, 256]
+        } else {
+            self.spps.clone()
+        };
         if self.with_1024 {
             spps.push(1024);
         }
+        spps.sort_unstable();
+        spps.dedup();
         let top = *spps.last().expect("spp list");
         // The reference's own error adds to every measured point: at 16
         // times the largest spp it adds at most about 3 % to the last
@@ -118,6 +137,19 @@ impl ConvergeArgs {
         let (csv, plot) = (named(&self.csv, "csv"), named(&self.plot, "png"));
         check_output_ext(&csv, "csv", "--csv")?;
         check_output_ext(&plot, "png", "--plot")?;
+        let error_spectrum = match &self.error_spectrum {
+            Some(p) => {
+                check_output_ext(p, "png", "--error-spectrum")?;
+                let beside = p.with_extension("csv");
+                for (other, flag) in [(&plot, "--plot"), (&csv, "--csv")] {
+                    if same_path(p, other) || same_path(&beside, other) {
+                        bail!("--error-spectrum `{}` would overwrite {flag}", p.display());
+                    }
+                }
+                Some((p.clone(), beside))
+            }
+            None => None,
+        };
         Ok(ConvergePlan {
             view: View {
                 scene,
@@ -136,6 +168,7 @@ impl ConvergeArgs {
                 .cache_dir
                 .clone()
                 .unwrap_or_else(study::default_cache_dir),
+            error_spectrum,
         })
     }
 }
@@ -156,6 +189,69 @@ impl ConvergePlan<'_> {
             std::fs::remove_file(&self.plot).ok();
             return Err(e);
         }
+        Ok(())
+    }
+
+    /// The error-spectrum view: its table, plot and CSV (both files or
+    /// neither).
+    fn write_error_spectra(
+        &self,
+        spectra: &[(Point, ErrorSpectrum)],
+        seeds: u32,
+        png: &Path,
+        csv: &Path,
+    ) -> Result<()> {
+        let first = self.samplers[0];
+        let find = |s: SamplerKind, spp: u32| {
+            spectra
+                .iter()
+                .find(|(p, _)| p.sampler == s && p.spp == spp)
+                .expect("every sampler at every spp")
+        };
+        let mut table = format!(
+            "error spectrum over {seeds} seed(s); low band: below {LOW_BAND} cycles per pixel; \
+             ratios to {}\n{:>6} {:<12} {:>10} {:>7} {:>11} {:>7} {:>10}",
+            first.name(),
+            "spp",
+            "sampler",
+            "RMSE",
+            "ratio",
+            "low power",
+            "ratio",
+            "low/total"
+        );
+        for &spp in &self.spps {
+            let (p0, s0) = find(first, spp);
+            for &s in &self.samplers {
+                let (p, e) = find(s, spp);
+                let low = e.band_power(LOW_BAND);
+                write!(
+                    table,
+                    "\n{spp:>6} {:<12} {:>10.4e} {:>7.3} {:>11.4e} {:>7.3} {:>10.3}",
+                    s.name(),
+                    p.rmse,
+                    p.rmse / p0.rmse,
+                    low,
+                    low / s0.band_power(LOW_BAND),
+                    low / e.total_power()
+                )
+                .ok();
+            }
+        }
+        say(&table);
+        let title = format!(
+            "{}: radial power spectrum of the error (luminance)",
+            self.view.scene.name
+        );
+        let (pw, ph) = PLOT_SIZE;
+        let image = study::plot_error_spectra(spectra, &title, pw, ph)?;
+        let text = study::error_csv(spectra);
+        plot::write_png(png, &image, pw, ph)?;
+        if let Err(e) = write_text(csv, &text) {
+            std::fs::remove_file(png).ok();
+            return Err(e);
+        }
+        say(&format!("wrote {} and {}", png.display(), csv.display()));
         Ok(())
     }
 }

@@ -133,7 +133,7 @@ impl RenderArgs {
         if self.sampler == SamplerKind::Grid {
             bail!(
                 "--adaptive needs a sampler whose first samples spread over the pixel \
-                 (independent, stratified, sobol, halton): the grid fills its rows in order"
+                 (independent, stratified, sobol, halton, zsobol): the grid fills its rows in order"
             );
         }
         Ok((adaptive.max(), Some(adaptive)))
