@@ -231,6 +231,77 @@ fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
     v
 }
 
+/// One stratified axis of `n` strata: where stratum `s` puts jitter
+/// bits `x` (a `u32` of the stream, whose 24 high bits are the jitter, as
+/// [`u32_to_unit_f32`] reads them). The value is [`stratum_point`]'s;
+/// with `n` a power of two it comes from integers alone: `s·2²⁴ + J` is
+/// exact in an `i64`, its conversion to `f32` rounds as the `f64` path
+/// does, and the scale `2^-(24+k)` is exact, so the bits are the same.
+#[derive(Clone, Copy, Debug)]
+struct Axis {
+    n: u32,
+    /// `1 / n` for the general path.
+    inv: f64,
+    /// `log2 n` if `n` is a power of two, else [`Axis::GENERAL`].
+    shift: u32,
+    /// `2^-(24 + log2 n)` if `n` is a power of two.
+    scale: f32,
+}
+
+impl Axis {
+    /// The `shift` of an `n` that is not a power of two.
+    const GENERAL: u32 = u32::MAX;
+
+    fn new(n: u32) -> Self {
+        let pow2 = n.is_power_of_two();
+        let shift = if pow2 {
+            n.trailing_zeros()
+        } else {
+            Self::GENERAL
+        };
+        Self {
+            n,
+            inv: 1.0 / n as f64,
+            shift,
+            // n ≤ 2²⁴, so the scale is at least 2⁻⁴⁸, a normal f32.
+            scale: if pow2 {
+                f32::from_bits((127 - 24 - shift) << 23)
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// `s / n` and `s % n`.
+    #[inline(always)]
+    fn div_rem(self, s: u32) -> (u32, u32) {
+        if self.shift == Self::GENERAL {
+            (s / self.n, s % self.n)
+        } else {
+            (s >> self.shift, s & (self.n - 1))
+        }
+    }
+
+    /// The point of stratum `s < n` at jitter bits `x`.
+    #[inline(always)]
+    fn point(self, s: u32, x: u32) -> f32 {
+        if self.shift == Self::GENERAL {
+            return stratum_point(s, u32_to_unit_f32(x), self.n, self.inv);
+        }
+        // s + 1 ≤ 2²⁴, so both integers are below 2⁴⁹ and `top` is exact.
+        let num = ((s as u64) << 24 | (x >> 8) as u64) as i64 as f32;
+        let top = (((s as u64) + 1) << 24) as i64 as f32;
+        // Rounding may reach the next stratum: step back one ulp, as
+        // stratum_point's check does.
+        let v = if num >= top {
+            f32::from_bits(num.to_bits() - 1)
+        } else {
+            num
+        };
+        v * self.scale
+    }
+}
+
 /// Uniform random samples: the course's `get_ray`, with a reproducible
 /// stream per pixel sample. Any spp and index: each `(pixel, index)` has a
 /// stream of its own, so an index `≥ spp` is just another sample.
@@ -383,6 +454,13 @@ fn permute_block(
     keys: &[u32; STRATA_BLOCK],
     key_mods: &[u32; STRATA_BLOCK],
 ) -> [u32; STRATA_BLOCK] {
+    if w.wrapping_add(1) == len {
+        // A power of two: one round stays in [0, len), nothing walks, and
+        // (x + key) mod len is a mask.
+        return core::array::from_fn(|l| {
+            permute_round(i, w, keys[l]).wrapping_add(key_mods[l]) & w
+        });
+    }
     let mut x = [i; STRATA_BLOCK];
     // All ones while a lane still walks.
     let mut walking = [u32::MAX; STRATA_BLOCK];
@@ -414,10 +492,8 @@ fn permute_block(
 #[derive(Clone, Debug)]
 struct Strata<const JITTER: bool> {
     spp: u32,
-    nx: u32,
-    ny: u32,
-    /// `1 / spp`, `1 / nx`, `1 / ny`: reciprocals instead of divisions.
-    inv: [f64; 3],
+    /// The strata of a 1D draw (`spp`) and of a 2D draw's two axes.
+    axes: [Axis; 3],
     /// `permute_mask(spp)`.
     mask: u32,
     pixel: PixelKey,
@@ -446,9 +522,7 @@ impl<const JITTER: bool> Strata<JITTER> {
         let (nx, ny) = grid_dims(spp);
         let mut s = Self {
             spp,
-            nx,
-            ny,
-            inv: [1.0 / spp as f64, 1.0 / nx as f64, 1.0 / ny as f64],
+            axes: [Axis::new(spp), Axis::new(nx), Axis::new(ny)],
             mask: permute_mask(spp),
             pixel: PixelKey::new(seed),
             slot: 0,
@@ -477,7 +551,7 @@ impl<const JITTER: bool> Strata<JITTER> {
             let word = d as u64 | (self.pass as u64) << 32;
             (mix64(self.pixel.key ^ PERMUTATION_SALT ^ word) >> 32) as u32
         });
-        [keys, keys.map(|k| k % self.spp)]
+        [keys, keys.map(|k| self.axes[0].div_rem(k).1)]
     }
 
     /// Shuffles the strata of block `block` of the current sample into
@@ -510,30 +584,24 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.strata[dimension as usize % STRATA_BLOCK]
     }
 
-    /// One jitter value per stratified coordinate, word `d` of the stream
-    /// for dimension `d`.
+    /// One jitter word per stratified coordinate, word `d` of the stream
+    /// for dimension `d`; the centre (jitter 0.5) without jitter.
     #[inline]
-    fn jitter(&mut self) -> f32 {
-        if JITTER {
-            u32_to_unit_f32(self.rng.next_u32())
-        } else {
-            0.5
-        }
+    fn jitter(&mut self) -> u32 {
+        if JITTER { self.rng.next_u32() } else { 1 << 31 }
     }
 
     #[inline]
     fn point_2d(&mut self, stratum: u32) -> Vec2 {
         let jx = self.jitter();
         let jy = self.jitter();
-        Vec2::new(
-            stratum_point(stratum % self.nx, jx, self.nx, self.inv[1]),
-            stratum_point(stratum / self.nx, jy, self.ny, self.inv[2]),
-        )
+        let (row, column) = self.axes[1].div_rem(stratum);
+        Vec2::new(self.axes[1].point(column, jx), self.axes[2].point(row, jy))
     }
 
     #[inline]
     fn start(&mut self, pixel: UVec2, index: u32, shuffle_pixel: bool) {
-        let (slot, pass) = (index % self.spp, index / self.spp);
+        let (pass, slot) = self.axes[0].div_rem(index);
         if self.pixel.set(pixel) || pass != self.keyed_pass {
             self.keyed = 0;
             self.keyed_pass = pass;
@@ -560,7 +628,7 @@ impl<const JITTER: bool> Strata<JITTER> {
         let stratum = self.stratum(self.dimension);
         self.dimension = self.dimension.wrapping_add(1);
         let j = self.jitter();
-        stratum_point(stratum, j, self.spp, self.inv[0])
+        self.axes[0].point(stratum, j)
     }
 
     #[inline]
@@ -599,7 +667,7 @@ impl UniformGrid {
     #[inline]
     #[must_use]
     pub fn grid(&self) -> (u32, u32) {
-        (self.0.nx, self.0.ny)
+        (self.0.axes[1].n, self.0.axes[2].n)
     }
 }
 
@@ -659,7 +727,7 @@ impl Stratified {
     #[inline]
     #[must_use]
     pub fn grid(&self) -> (u32, u32) {
-        (self.0.nx, self.0.ny)
+        (self.0.axes[1].n, self.0.axes[2].n)
     }
 }
 
@@ -1149,6 +1217,40 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The integer path of a power-of-two axis gives `stratum_point`'s
+    /// bits: every `n = 2^k` up to `2²⁴`, strata at both ends and inside,
+    /// jitter words at both ends, at the rounding ties and at random.
+    #[test]
+    fn axis_points_match_stratum_point() {
+        let mut rng = Pcg32::new(7, STREAM);
+        for k in 0..=24 {
+            let n = 1u32 << k;
+            let axis = Axis::new(n);
+            assert_ne!(axis.shift, Axis::GENERAL);
+            let mut strata = [0, 1, n / 3, n / 2, n.saturating_sub(2), n - 1];
+            let mut words = [0, 0xff, 0x100, 1 << 31, u32::MAX - 0xff, u32::MAX, 0, 0];
+            for _ in 0..200 {
+                strata[2] = rng.next_u32() % n;
+                words[6] = rng.next_u32();
+                // A jitter whose low k bits are exactly half: a tie.
+                words[7] = (rng.next_u32() & !((1 << 8 << k.min(23)) - 1)) | 1 << 7 << k.min(23);
+                for &s in &strata {
+                    for &x in &words {
+                        let want =
+                            stratum_point(s.min(n - 1), u32_to_unit_f32(x), n, 1.0 / n as f64);
+                        let got = axis.point(s.min(n - 1), x);
+                        assert_eq!(got.to_bits(), want.to_bits(), "n {n} s {s} x {x:#x}");
+                    }
+                }
+            }
+        }
+        // Other n take the general path.
+        let axis = Axis::new(12);
+        assert_eq!(axis.shift, Axis::GENERAL);
+        assert_eq!(axis.div_rem(29), (2, 5));
+        assert_eq!(Axis::new(16).div_rem(37), (2, 5));
     }
 
     #[test]
