@@ -290,14 +290,11 @@ impl Axis {
         }
         // s + 1 ≤ 2²⁴, so both integers are below 2⁴⁹ and `top` is exact.
         let num = ((s as u64) << 24 | (x >> 8) as u64) as i64 as f32;
+        // Rounding may reach the next stratum's start, never beyond: cap
+        // at the float below it, as stratum_point's check does.
         let top = (((s as u64) + 1) << 24) as i64 as f32;
-        // Rounding may reach the next stratum: step back one ulp, as
-        // stratum_point's check does.
-        let v = if num >= top {
-            f32::from_bits(num.to_bits() - 1)
-        } else {
-            num
-        };
+        let below_top = f32::from_bits(top.to_bits() - 1);
+        let v = if num < below_top { num } else { below_top };
         v * self.scale
     }
 }
