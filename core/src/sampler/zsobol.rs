@@ -201,11 +201,14 @@ impl core::error::Error for ZSobolError {}
 /// # Cost
 ///
 /// A draw hashes once per permuted digit, `r + ⌈k/2⌉` digits (at most
-/// 32; 11 for a `320 × 180` image at 16 spp). The `r` pixel digits of the
-/// first 64 dimensions are remembered from one sample of a pixel to the
-/// next, so while a pixel's samples are drawn in a row (as a tile renders
-/// them), a draw hashes only its `⌈k/2⌉` slot digits. The memo never
-/// changes a value: any order gives the same bits.
+/// 32; 11 for a `320 × 180` image at 16 spp). For the first 64
+/// dimensions, what does not depend on the sample's slot (the dimension's
+/// key, its `r` permuted pixel digits and the permutation of its top slot
+/// digit) is remembered from one sample of a pixel to the next, so while a
+/// pixel's samples are drawn in a row (as a tile renders them), a draw
+/// hashes only the slot digits below the top one: none at 1 and 4 spp,
+/// one at 2, 8 and 16. The memo never changes a value: any order gives the
+/// same bits.
 ///
 /// ```
 /// use glam::UVec2;
@@ -236,18 +239,29 @@ pub struct ZSobol {
     key: u64,
     dimension: u32,
     pixel: Vec2,
-    /// A memo, never a source of values: the permuted pixel digits of
-    /// dimensions `0..CACHED_DIMENSIONS` (bit `d` of `cached` says whether
-    /// entry `d` is filled) for the pixel and key of `cache_tag`. They do
-    /// not depend on the sample's slot, so the samples of one pixel hash
-    /// only their slot digits (a tile renders a pixel's samples in a row).
-    cache: [u64; CACHED_DIMENSIONS],
+    /// A memo, never a source of values: what dimensions
+    /// `0..CACHED_DIMENSIONS` need that does not depend on the sample's
+    /// slot (bit `d` of `cached` says whether entry `d` is filled), for
+    /// the pixel and key of `cache_tag`. So the samples of one pixel hash
+    /// only their lower slot digits (a tile renders a pixel's samples in a
+    /// row).
+    cache: [DimensionMemo; CACHED_DIMENSIONS],
     cached: u64,
     cache_tag: (u64, u64),
 }
 
 /// How many dimensions' pixel digits a [`ZSobol`] remembers.
 const CACHED_DIMENSIONS: usize = 64;
+
+/// What a dimension's draws share across the samples of one pixel: its
+/// key, its permuted pixel digits, and the permutation of its top slot
+/// digit (whose digits above are the pixel's).
+#[derive(Clone, Copy, Debug, Default)]
+struct DimensionMemo {
+    dkey: u64,
+    pixel_digits: u64,
+    top_permutation: u8,
+}
 
 impl ZSobol {
     /// A ZSobol' sampler of `spp` samples per pixel for an image of
@@ -291,7 +305,7 @@ impl ZSobol {
             key: 0,
             dimension: 2,
             pixel: Vec2::ZERO,
-            cache: [0; CACHED_DIMENSIONS],
+            cache: [DimensionMemo::default(); CACHED_DIMENSIONS],
             cached: 0,
             cache_tag: (u64::MAX, 0),
         };
@@ -324,35 +338,64 @@ impl ZSobol {
             shift = 1;
         }
         while shift < hi {
-            // The digits above this one, with a marker bit at the top of
-            // this digit's place: distinct for every (level, prefix). (At
-            // shift 62 nothing is above: the mask wraps to all ones.)
-            let below = (4u64 << shift).wrapping_sub(1);
-            let word = (m & !below) | 2u64 << shift;
-            let h = mix64(word ^ dkey);
-            let p = PERMUTATIONS[(((h >> 32) * 24) >> 32) as usize];
-            let digit = (m >> shift) & 3;
-            out |= ((p as u64 >> (2 * digit)) & 3) << shift;
+            let p = self.digit_permutation(dkey, shift);
+            out |= permute_digit(p, m, shift);
             shift += 2;
         }
         out
     }
 
-    /// The current sample's Morton index after the digit permutations of
-    /// dimension `d` (key `dkey`): the index of its Sobol' point.
+    /// The permutation of the base-4 digit at bit `shift` of the current
+    /// sample's Morton index, chosen by a hash of `dkey` and the digits
+    /// above it.
     #[inline]
-    fn sequence_index(&mut self, d: u32, dkey: u64) -> u64 {
+    fn digit_permutation(&self, dkey: u64, shift: u32) -> u8 {
+        // The digits above this one, with a marker bit at the top of this
+        // digit's place: distinct for every (level, prefix). (At shift 62
+        // nothing is above: the mask wraps to all ones.)
+        let below = (4u64 << shift).wrapping_sub(1);
+        let word = (self.morton & !below) | 2u64 << shift;
+        let h = mix64(word ^ dkey);
+        PERMUTATIONS[(((h >> 32) * 24) >> 32) as usize]
+    }
+
+    /// What dimension `d` of the current pixel shares between its samples.
+    #[inline]
+    fn dimension_memo(&self, d: u32) -> DimensionMemo {
+        let dkey = self.dimension_key(d);
         let k = self.block_bits;
-        let pixel_digits = if (d as usize) < CACHED_DIMENSIONS {
+        DimensionMemo {
+            dkey,
+            pixel_digits: self.permute_digits(dkey, k, self.index_bits()),
+            top_permutation: if k >= 2 {
+                self.digit_permutation(dkey, k - 2)
+            } else {
+                0
+            },
+        }
+    }
+
+    /// Dimension `d`'s key and the current sample's Morton index after
+    /// its digit permutations: the index of its Sobol' point.
+    #[inline]
+    fn key_and_index(&mut self, d: u32) -> (u64, u64) {
+        let memo = if (d as usize) < CACHED_DIMENSIONS {
             if self.cached >> d & 1 == 0 {
-                self.cache[d as usize] = self.permute_digits(dkey, k, self.index_bits());
+                self.cache[d as usize] = self.dimension_memo(d);
                 self.cached |= 1 << d;
             }
             self.cache[d as usize]
         } else {
-            self.permute_digits(dkey, k, self.index_bits())
+            self.dimension_memo(d)
         };
-        pixel_digits | self.permute_digits(dkey, 0, k)
+        let k = self.block_bits;
+        let slot_digits = if k >= 2 {
+            self.permute_digits(memo.dkey, 0, k - 2)
+                | permute_digit(memo.top_permutation, self.morton, k - 2)
+        } else {
+            self.permute_digits(memo.dkey, 0, k)
+        };
+        (memo.dkey, memo.pixel_digits | slot_digits)
     }
 
     /// The key of dimension `d` of the current sample: its low half
@@ -366,8 +409,7 @@ impl ZSobol {
     /// matrix is the identity, so the index's low 32 bits are all of it).
     #[inline]
     fn value_1d(&mut self, d: u32) -> f32 {
-        let dkey = self.dimension_key(d);
-        let i = self.sequence_index(d, dkey);
+        let (dkey, i) = self.key_and_index(d);
         // Owen scrambling works on reversed digits: no reversal in between.
         let x = sobol::laine_karras(sobol::sobol_rev(i, 0), dkey as u32);
         u32_to_unit_f32(x.reverse_bits())
@@ -377,8 +419,7 @@ impl ZSobol {
     /// dimensions of one index.
     #[inline]
     fn value_2d(&mut self, d: u32) -> Vec2 {
-        let dkey = self.dimension_key(d);
-        let i = self.sequence_index(d, dkey);
+        let (dkey, i) = self.key_and_index(d);
         let x = sobol::laine_karras(sobol::sobol_rev(i, 0), dkey as u32);
         let y = sobol::laine_karras(sobol::sobol_rev(i, 1), (dkey >> 32) as u32);
         Vec2::new(
@@ -386,6 +427,14 @@ impl ZSobol {
             u32_to_unit_f32(y.reverse_bits()),
         )
     }
+}
+
+/// The base-4 digit of `m` at bit `shift` through permutation `p`, in
+/// place.
+#[inline]
+fn permute_digit(p: u8, m: u64, shift: u32) -> u64 {
+    let digit = (m >> shift) & 3;
+    ((p as u64 >> (2 * digit)) & 3) << shift
 }
 
 /// The key of pass `pass` of the pixels whose coordinates divided by
@@ -509,7 +558,7 @@ mod tests {
                 let mut block = None;
                 for i in 0..spp {
                     s.start_pixel_sample(pixel, i);
-                    let j = s.sequence_index(7, s.dimension_key(7)) as u32;
+                    let j = s.key_and_index(7).1 as u32;
                     let b = *block.get_or_insert(j >> k);
                     assert_eq!(j >> k, b, "spp {spp} {pixel}: slot {i} left its block");
                     assert!(!seen[(j & (spp - 1)) as usize]);
