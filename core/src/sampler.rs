@@ -760,28 +760,24 @@ const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 /// for its current pixel (a path of 5 segments draws 28 dimensions).
 const SOBOL_KEYED_BLOCKS: usize = 2;
 
-/// The keys of one Sobol' block of a pixel: each pair's index shuffle and
-/// each dimension's output scramble.
-#[derive(Clone, Copy, Debug)]
-struct SobolKeys {
-    pairs: [u32; sobol::PAIRS],
-    dims: [u32; sobol::BLOCK],
-}
-
-/// The keys of Sobol' block `block` (dimensions `16·block ..`) of the
-/// pixel hashed to `pixel_key`.
+/// The keys of Sobol' block `block` (dimensions `8·block ..`) of the pixel
+/// hashed to `pixel_key`: each lane's pair key (index shuffle) and
+/// dimension key (output scramble).
 #[inline]
-fn sobol_keys(pixel_key: u64, block: u32) -> SobolKeys {
+fn sobol_keys(pixel_key: u64, block: u32) -> [[u32; sobol::BLOCK]; 2] {
     let first = block.wrapping_mul(sobol::BLOCK as u32);
-    let pairs = core::array::from_fn(|g| {
+    let mut pairs = [0u32; sobol::BLOCK / 2];
+    for (g, k) in pairs.iter_mut().enumerate() {
         let pair = first / 2 + g as u32;
-        (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32
-    });
-    let dims = core::array::from_fn(|l| {
+        *k = (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32;
+    }
+    let mut keys = [[0u32; sobol::BLOCK]; 2];
+    for l in 0..sobol::BLOCK {
         let d = first.wrapping_add(l as u32);
-        (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32
-    });
-    SobolKeys { pairs, dims }
+        keys[0][l] = pairs[l / 2];
+        keys[1][l] = (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
+    }
+    keys
 }
 
 /// Owen-scrambled Sobol' samples (Burley 2020), padded in pairs of
@@ -819,7 +815,7 @@ pub struct Sobol {
     pixel: PixelKey,
     /// Bit `b`: `keys[b]` holds block `b`'s keys for the current pixel.
     keyed: u32,
-    keys: [SobolKeys; SOBOL_KEYED_BLOCKS],
+    keys: [[[u32; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
     /// The sample index, bit-reversed.
     index_rev: u32,
     dimension: u32,
@@ -841,10 +837,7 @@ impl Sobol {
             spp,
             pixel: PixelKey::new(seed),
             keyed: 0,
-            keys: [SobolKeys {
-                pairs: [0; sobol::PAIRS],
-                dims: [0; sobol::BLOCK],
-            }; SOBOL_KEYED_BLOCKS],
+            keys: [[[0; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
             index_rev: 0,
             dimension: 2,
             block: 0,
@@ -870,7 +863,7 @@ impl Sobol {
             far = sobol_keys(self.pixel.key, block);
             &far
         };
-        let ints = sobol::padded_block(self.index_rev, &keys.pairs, &keys.dims);
+        let ints = sobol::padded_block(self.index_rev, &keys[0], &keys[1]);
         // u32_to_unit_f32 of the 32-bit values, whose 24 high bits these are.
         self.values = ints.map(|x| x as f32 * (1.0 / 16_777_216.0));
         self.block = block;

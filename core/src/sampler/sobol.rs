@@ -125,35 +125,24 @@ pub(crate) const fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     laine_karras(x.reverse_bits(), seed).reverse_bits()
 }
 
-/// The pairs of dimensions in a [`BLOCK`].
-pub(crate) const PAIRS: usize = BLOCK / 2;
-
 /// Dimensions `16b .. 16b + 16` of one sample, as the 24-bit integers
 /// `u32_to_unit_f32` scales: `index_rev` is the sample index reversed,
-/// `pair_keys[g]` the index shuffle of pair `g` (dimensions `2g`,
-/// `2g + 1`), `dim_keys[l]` dimension `l`'s output scramble. Each pair
-/// shuffles its index once, and only the odd dimensions take the Pascal
-/// matrix; lanes are independent (SIMD-friendly).
+/// `pair_keys[l]` the index shuffle of lane `l`'s pair, `dim_keys[l]` its
+/// output scramble. Lanes are independent (SIMD-friendly).
 #[inline]
 pub(crate) fn padded_block(
     index_rev: u32,
-    pair_keys: &[u32; PAIRS],
+    pair_keys: &[u32; BLOCK],
     dim_keys: &[u32; BLOCK],
 ) -> [u32; BLOCK] {
-    // The scrambled index i' = nested_uniform_scramble(index, pair key):
-    // van der Corput's reversed value is i' itself.
-    let index: [u32; PAIRS] =
-        core::array::from_fn(|g| laine_karras(index_rev, pair_keys[g]).reverse_bits());
-    let mut even = [0u32; PAIRS];
-    let mut odd = [0u32; PAIRS];
-    for g in 0..PAIRS {
-        even[g] = laine_karras(index[g], dim_keys[2 * g]).reverse_bits() >> 8;
-        odd[g] = laine_karras(pascal_rev(index[g]), dim_keys[2 * g + 1]).reverse_bits() >> 8;
-    }
     let mut out = [0u32; BLOCK];
-    for g in 0..PAIRS {
-        out[2 * g] = even[g];
-        out[2 * g + 1] = odd[g];
+    for l in 0..BLOCK {
+        // The scrambled index i' = nested_uniform_scramble(index, pair key).
+        let index = laine_karras(index_rev, pair_keys[l]).reverse_bits();
+        // Odd lanes are Sobol' dimension 1 (a select, not a branch).
+        let odd = 0u32.wrapping_sub(l as u32 & 1);
+        let rev = index ^ ((pascal_rev(index) ^ index) & odd);
+        out[l] = laine_karras(rev, dim_keys[l]).reverse_bits() >> 8;
     }
     out
 }
@@ -240,14 +229,14 @@ mod tests {
     #[test]
     fn block_equals_the_scalar_definition() {
         // Each lane: scramble the index, take the Sobol' point, scramble it.
-        let pair: [u32; PAIRS] =
-            core::array::from_fn(|g| (g as u32).wrapping_mul(0x9e37_79b9) ^ 0xdead_beef);
+        let pair: [u32; BLOCK] =
+            core::array::from_fn(|l| (l as u32 / 2).wrapping_mul(0x9e37_79b9) ^ 0xdead_beef);
         let mut dim: [u32; BLOCK] = core::array::from_fn(|l| l as u32 * 7 + 1);
         dim[3] = u32::MAX;
         for index in [0u32, 1, 5, 1000, u32::MAX] {
             let block = padded_block(index.reverse_bits(), &pair, &dim);
             for l in 0..BLOCK {
-                let i = nested_uniform_scramble(index, pair[l / 2]);
+                let i = nested_uniform_scramble(index, pair[l]);
                 let v = nested_uniform_scramble(sobol(i as u64, l % 2), dim[l]);
                 assert_eq!(block[l], v >> 8, "index {index} lane {l}");
             }
