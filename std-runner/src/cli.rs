@@ -249,7 +249,8 @@ fn positive_f32(s: &str) -> Result<f32, String> {
 /// `strata render` flags. Unset values come from the scene's defaults.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// A built-in scene (week09, cover, showcase) or a TOML scene file.
+    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
+    /// TOML scene file.
     #[arg(long, default_value = "week09")]
     pub scene: String,
     /// Image width in pixels [default: the scene's].

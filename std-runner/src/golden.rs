@@ -130,6 +130,16 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
         "zsobol",
         0xd86847d06851a30b,
     ),
+    ("caustics", "independent", 0x8addfebc057e4154),
+    ("caustics", "grid", 0x5c1b4c81fa3bd78e),
+    ("caustics", "stratified", 0xf0e1acfb3c6bc093),
+    ("caustics", "sobol", 0x932b93f3ee71ec56),
+    ("caustics", "halton", 0x751cea6bb3049f79),
+    ("caustics", "zsobol", 0x4fe6eee1e4b58d3e),
+    ("caustics", "scene", 0x2e82865582e7c922),
+    ("caustics", "file.png", 0xd0bab5c67302c645),
+    ("caustics", "file.exr", 0x807ba3f5fd4deb02),
+    ("caustics", "file.film", 0x717ad7f2f2253046),
 ];
 
 /// The files locked byte for byte for each built-in scene: the golden

@@ -1,7 +1,9 @@
 //! The built-in scenes: `week09` (the course's picture, the default),
 //! `cover` (the cover of *Ray Tracing in One Weekend*), `showcase` (every
-//! material, sphere lights and an image texture) and `horizon` (a fine
-//! checker plane to the horizon, for the aliasing demo).
+//! material, sphere lights and an image texture), `horizon` (a fine
+//! checker plane to the horizon, for the aliasing demo) and `caustics` (a
+//! small light through glass: noise in a few places, for adaptive
+//! sampling).
 
 use glam::Vec3;
 use strata::render::{Background, CameraDesc, Material, Texture};
@@ -12,7 +14,7 @@ use super::geometry::{COURSE_VIEW, COVER_VIEW, course_spheres, cover_spheres};
 use super::{Defaults, Image, SceneData};
 
 /// The names of the built-in scenes.
-pub const BUILT_IN: [&str; 4] = ["week09", "cover", "showcase", "horizon"];
+pub const BUILT_IN: [&str; 5] = ["week09", "cover", "showcase", "horizon", "caustics"];
 
 /// A built-in scene by name.
 pub fn built_in(name: &str) -> Option<SceneData> {
@@ -21,6 +23,7 @@ pub fn built_in(name: &str) -> Option<SceneData> {
         "cover" => Some(cover()),
         "showcase" => Some(showcase()),
         "horizon" => Some(horizon()),
+        "caustics" => Some(caustics()),
         _ => None,
     }
 }
@@ -327,6 +330,71 @@ pub fn horizon() -> SceneData {
             aspect: 16.0 / 9.0,
             spp: 4,
             max_depth: 2,
+        },
+    }
+}
+
+/// The radius of `caustics`' light: 1/40 of the floor's visible width
+/// across the frame at the spheres (about 4.3 units), so the light is
+/// small and the caustics it throws are sharp and rare.
+pub const CAUSTICS_LIGHT_RADIUS: f32 = 0.11;
+
+/// Adaptive sampling's test scene: a glass sphere (ior 1.5) and a glossy
+/// metal one on a diffuse checker floor with large cells, lit by one small
+/// sphere light (radius [`CAUSTICS_LIGHT_RADIUS`]) above and behind the
+/// glass, under a dim uniform sky. The glass focuses the light into a
+/// caustic on the floor in front of it, which only paths that bounce off
+/// the floor and through the glass into the light find (no light sample
+/// passes the glass), so it stays noisy for many samples; contact shadows
+/// and the metal's blurred reflections are noisy too; the rest of the
+/// frame (floor lit directly, sky, the spheres' smooth sides) converges
+/// fast. 320 × 180, 64 spp, depth 8.
+pub fn caustics() -> SceneData {
+    let materials = vec![
+        Material::Lambertian {
+            albedo: Texture::Checker {
+                scale: 0.5,
+                even: Vec3::splat(0.35),
+                odd: Vec3::splat(0.75),
+            },
+        },
+        Material::Dielectric { ior: 1.5 },
+        Material::Metal {
+            albedo: Vec3::new(0.85, 0.75, 0.6),
+            roughness: 0.15,
+        },
+        Material::DiffuseLight {
+            emit: Vec3::new(1.0, 0.95, 0.85) * 600.0,
+        },
+    ];
+    let s = |x: f32, y: f32, z: f32, r: f32| Sphere::new(Vec3::new(x, y, z), r);
+    let list = [
+        (s(0.0, -1000.0, 0.0, 1000.0), 0),
+        (s(-0.65, 0.5, 0.0, 0.5), 1),
+        (s(0.75, 0.5, -0.5, 0.5), 2),
+        (s(-1.3, 2.6, -1.4, CAUSTICS_LIGHT_RADIUS), 3),
+    ];
+    SceneData {
+        name: "caustics".into(),
+        spheres: list.iter().map(|l| l.0).collect(),
+        sphere_material: list.iter().map(|l| l.1).collect(),
+        materials,
+        image_albedo: vec![],
+        images: vec![],
+        camera: CameraDesc {
+            look_from: Vec3::new(0.0, 1.3, 3.2),
+            look_at: Vec3::new(0.0, 0.35, 0.0),
+            up: Vec3::Y,
+            vfov_deg: 40.0,
+            defocus_angle_deg: 0.0,
+            focus_dist: 3.3,
+        },
+        background: Background::Flat(Vec3::splat(0.03)),
+        defaults: Defaults {
+            width: 320,
+            aspect: 16.0 / 9.0,
+            spp: 64,
+            max_depth: 8,
         },
     }
 }

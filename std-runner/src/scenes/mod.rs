@@ -15,7 +15,8 @@ mod geometry;
 mod hash;
 
 pub use builtin::{
-    BUILT_IN, HORIZON_RADIUS, built_in, cover, globe_image, horizon, showcase, week09,
+    BUILT_IN, CAUSTICS_LIGHT_RADIUS, HORIZON_RADIUS, built_in, caustics, cover, globe_image,
+    horizon, showcase, week09,
 };
 pub use geometry::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres};
 
@@ -291,6 +292,53 @@ mod tests {
         // The lens: aperture 0.1 at focus 10.
         let r = 10.0 * (s.camera.defocus_angle_deg.to_radians() * 0.5).tan();
         assert!((r - 0.05).abs() < 1e-6);
+    }
+
+    /// `caustics` is what adaptive sampling is measured on: one sphere
+    /// light no wider than 1/20 of the floor's visible width, a glass and
+    /// a glossy metal sphere standing on a diffuse checker floor, a dim
+    /// uniform sky.
+    #[test]
+    fn caustics_has_one_small_light_over_glass_and_metal() {
+        let s = caustics();
+        let mats = s.materials();
+        let of = |i: usize| mats[s.sphere_material[i] as usize];
+        let lights: Vec<usize> = (0..s.spheres.len())
+            .filter(|&i| matches!(of(i), Material::DiffuseLight { .. }))
+            .collect();
+        assert_eq!(lights.len(), 1);
+        assert!(matches!(
+            of(0),
+            Material::Lambertian {
+                albedo: Texture::Checker { .. }
+            }
+        ));
+        assert!((0..s.spheres.len()).any(|i| matches!(of(i), Material::Dielectric { .. })));
+        assert!(
+            (0..s.spheres.len())
+                .any(|i| matches!(of(i), Material::Metal { roughness, .. } if roughness > 0.0))
+        );
+        // The floor's top is y = 0; the other spheres stand on it.
+        let floor = s.spheres[0];
+        assert_eq!(floor.center.y + floor.radius, 0.0);
+        for i in 1..s.spheres.len() {
+            if i != lights[0] {
+                let b = s.spheres[i];
+                assert!((b.center.y - b.radius).abs() < 1e-6, "sphere {i}");
+            }
+        }
+        // The frame's width at the distance of what it looks at.
+        let c = s.camera;
+        let distance = (c.look_at - c.look_from).length();
+        let height = 2.0 * distance * (c.vfov_deg.to_radians() * 0.5).tan();
+        let width = height * s.defaults.aspect;
+        let light = s.spheres[lights[0]];
+        assert_eq!(light.radius, CAUSTICS_LIGHT_RADIUS);
+        assert!(light.radius <= width / 20.0, "{} vs {width}", light.radius);
+        let Background::Flat(sky) = s.background else {
+            panic!("a uniform sky")
+        };
+        assert!(sky.max_element() > 0.0 && sky.max_element() <= 0.1);
     }
 
     #[test]
