@@ -321,7 +321,8 @@ pub struct RenderArgs {
     #[arg(long, requires = "adaptive", value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
     pub max_spp: Option<u32>,
     /// With --adaptive, also write a heat map of the samples each pixel
-    /// took as a PNG (viridis, log scale: dark = --spp, yellow = --max-spp).
+    /// took as a PNG (viridis, log scale: dark = --spp, yellow = --max-spp),
+    /// with a legend under it (at least 240 pixels wide).
     #[arg(long, requires = "adaptive")]
     pub spp_map: Option<PathBuf>,
     /// Pixel reconstruction filter, applied by importance sampling (each

@@ -175,22 +175,143 @@ pub fn side_by_side(
 /// pixel is dark.
 #[must_use]
 pub fn spp_heat_map(pixels: &[PixelSum], base: u32, max: u32) -> Vec<u8> {
-    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
-    let lo = (base.max(1) as f64).ln();
-    let span = (max.max(base).max(1) as f64).ln() - lo;
     pixels
         .iter()
         .flat_map(|p| {
-            let taken = p.taken().max(1) as f64;
-            let t = if span > 0.0 {
-                ((taken.ln() - lo) / span).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let c: RGBColor = ViridisRGB.get_color_normalized(t, 0.0, 1.0);
+            let c = spp_colour(p.taken() as f64, base, max);
             [c.0, c.1, c.2]
         })
         .collect()
+}
+
+/// The viridis colour of `taken` samples on the spp map's log scale from
+/// `base` to `max`.
+fn spp_colour(taken: f64, base: u32, max: u32) -> RGBColor {
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    let lo = (base.max(1) as f64).ln();
+    let span = (max.max(base).max(1) as f64).ln() - lo;
+    let t = if span > 0.0 {
+        ((taken.max(1.0).ln() - lo) / span).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ViridisRGB.get_color_normalized(t, 0.0, 1.0)
+}
+
+/// The spp values a legend from `base` to `max` labels: both ends and the
+/// powers of two between, thinned so neighbours on a log scale `length`
+/// pixels long are at least `spacing` pixels apart.
+fn legend_ticks(base: u32, max: u32, length: f64, spacing: f64) -> Vec<u32> {
+    let (base, max) = (base.max(1), max.max(base).max(1));
+    let at = |v: u32| {
+        if max == base {
+            0.0
+        } else {
+            ((v as f64).ln() - (base as f64).ln()) / ((max as f64).ln() - (base as f64).ln())
+                * length
+        }
+    };
+    let mut ticks = vec![base];
+    let mut p = base.checked_next_power_of_two().unwrap_or(u32::MAX);
+    while p < max {
+        if p > base && at(p) - at(*ticks.last().expect("one tick")) >= spacing {
+            ticks.push(p);
+        }
+        p = match p.checked_mul(2) {
+            Some(q) => q,
+            None => break,
+        };
+    }
+    if max > base {
+        // The last label always shows; it displaces a power of two too near.
+        while ticks.len() > 1 && at(max) - at(*ticks.last().expect("one tick")) < spacing {
+            ticks.pop();
+        }
+        ticks.push(max);
+    }
+    ticks
+}
+
+/// Height of the spp map's legend band.
+pub const SPP_LEGEND_HEIGHT: u32 = 46;
+
+/// The narrowest spp map image: a map narrower than this is padded with
+/// white on the right so the legend's labels fit.
+pub const SPP_LEGEND_MIN_WIDTH: u32 = 240;
+
+/// The spp map of a `width × height` window with its legend under it: the
+/// heat map ([`spp_heat_map`]) in the top-left corner, then a band with
+/// the colour scale from `base` to `max` samples and its spp values.
+/// Returns the 8-bit RGB buffer and its size (at least
+/// [`SPP_LEGEND_MIN_WIDTH`] wide, [`SPP_LEGEND_HEIGHT`] taller than the
+/// map).
+pub fn spp_map_with_legend(
+    pixels: &[PixelSum],
+    width: u32,
+    height: u32,
+    base: u32,
+    max: u32,
+) -> Result<(Vec<u8>, u32, u32)> {
+    fonts()?;
+    let map = spp_heat_map(pixels, base, max);
+    if map.len() != width as usize * height as usize * 3 {
+        bail!(
+            "{} pixels do not fill a {width} x {height} map",
+            pixels.len()
+        );
+    }
+    let w = width.max(SPP_LEGEND_MIN_WIDTH);
+    let h = height
+        .checked_add(SPP_LEGEND_HEIGHT)
+        .ok_or_else(|| anyhow::anyhow!("a map {height} pixels high is too tall"))?;
+    let wu = w as usize;
+    let mut buf = vec![255u8; wu * h as usize * 3];
+    let row = width as usize * 3;
+    for (y, line) in map.chunks_exact(row.max(1)).enumerate() {
+        let at = y * wu * 3;
+        buf[at..at + row].copy_from_slice(line);
+    }
+    // The colour bar, from base (left) to max (right).
+    const MARGIN: u32 = 16;
+    let (x0, x1) = (MARGIN, w - MARGIN);
+    let (bar_top, bar_bottom) = (height + 6, height + 20);
+    let length = f64::from(x1 - 1 - x0);
+    let (lo, hi) = (
+        (base.max(1) as f64).ln(),
+        (max.max(base).max(1) as f64).ln(),
+    );
+    for x in x0..x1 {
+        let t = f64::from(x - x0) / length;
+        let c = spp_colour((lo + t * (hi - lo)).exp(), base, max);
+        for y in bar_top..bar_bottom {
+            let at = (y as usize * wu + x as usize) * 3;
+            buf[at..at + 3].copy_from_slice(&[c.0, c.1, c.2]);
+        }
+    }
+    let ticks = legend_ticks(base, max, length, 34.0);
+    draw_on(&mut buf, w, h, "drawing the spp legend", |root| {
+        let style = TextStyle::from(("sans-serif", 13)).color(&BLACK).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Top,
+            ),
+        );
+        for &v in &ticks {
+            let t = if hi > lo {
+                ((v as f64).ln() - lo) / (hi - lo)
+            } else {
+                0.0
+            };
+            let x = x0 as i32 + (t * length).round() as i32;
+            root.draw(&PathElement::new(
+                vec![(x, bar_bottom as i32), (x, bar_bottom as i32 + 4)],
+                BLACK,
+            ))?;
+            root.draw_text(&v.to_string(), &style, (x, bar_bottom as i32 + 6))?;
+        }
+        Ok(())
+    })?;
+    Ok((buf, w, h))
 }
 
 /// Writes an 8-bit RGB buffer as an sRGB PNG, atomically.
@@ -206,6 +327,54 @@ pub fn write_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn legend_ticks_label_both_ends_and_powers_of_two() {
+        assert_eq!(
+            legend_ticks(16, 256, 200.0, 30.0),
+            vec![16, 32, 64, 128, 256]
+        );
+        assert_eq!(legend_ticks(16, 16, 200.0, 30.0), vec![16]);
+        assert_eq!(
+            legend_ticks(3, 100, 1000.0, 30.0),
+            vec![3, 4, 8, 16, 32, 64, 100]
+        );
+        // Thinned on a short bar; the last label displaces a near power.
+        let t = legend_ticks(1, 1 << 20, 200.0, 34.0);
+        assert_eq!((t[0], *t.last().unwrap()), (1, 1 << 20));
+        assert!(t.len() <= 7, "{t:?}");
+        assert_eq!(legend_ticks(16, 130, 200.0, 34.0), vec![16, 32, 64, 130]);
+    }
+
+    #[test]
+    fn spp_map_legend_shows_the_scale_under_the_map() {
+        let p = |taken: u32| PixelSum {
+            samples: taken,
+            ..PixelSum::default()
+        };
+        // A 4 x 2 map: base, max and between.
+        let pixels = [p(16), p(256), p(64), p(16), p(16), p(16), p(16), p(256)];
+        let (buf, w, h) = spp_map_with_legend(&pixels, 4, 2, 16, 256).unwrap();
+        assert_eq!((w, h), (SPP_LEGEND_MIN_WIDTH, 2 + SPP_LEGEND_HEIGHT));
+        let px = |x: u32, y: u32| {
+            let at = ((y * w + x) * 3) as usize;
+            [buf[at], buf[at + 1], buf[at + 2]]
+        };
+        let heat = spp_heat_map(&pixels, 16, 256);
+        assert_eq!(px(1, 0), [heat[3], heat[4], heat[5]]);
+        assert_eq!(px(4, 0), [255; 3]); // padding
+        // The bar's ends are the map's darkest and brightest colours.
+        assert_eq!(px(16, 2 + 10), px(0, 0));
+        assert_eq!(px(w - 17, 2 + 10), px(1, 0));
+        assert_ne!(px(0, 0), px(1, 0));
+        // Labels: dark pixels in the band under the bar.
+        let dark = (0..w)
+            .flat_map(|x| (2 + 26..h).map(move |y| (x, y)))
+            .filter(|&(x, y)| px(x, y)[0] < 100)
+            .count();
+        assert!(dark > 20, "{dark} label pixels");
+        assert!(spp_map_with_legend(&pixels, 3, 2, 16, 256).is_err());
+    }
 
     #[test]
     fn side_by_side_places_panels_and_labels() {

@@ -1125,11 +1125,21 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
     cover_render(d, "full.exr", &adaptive);
     let full = String::from_utf8_lossy(&bytes(&d.join("full.png"))).into_owned();
     assert!(full.contains("threshold=0.05 base=6 max=48"), "metadata");
-    // The map is the image's size, and varies: dark at the base count,
-    // brighter where pixels took more.
-    assert_eq!(png_size(&d.join("map.png")), png_size(&d.join("full.png")));
+    // The map is the image's pixels with the legend under it (padded to
+    // the legend's width), and varies: dark at the base count, brighter
+    // where pixels took more.
+    use strata_runner::plot::{SPP_LEGEND_HEIGHT, SPP_LEGEND_MIN_WIDTH};
+    let (w, h) = png_size(&d.join("full.png"));
+    assert_eq!(
+        png_size(&d.join("map.png")),
+        (w.max(SPP_LEGEND_MIN_WIDTH), h + SPP_LEGEND_HEIGHT)
+    );
     let map = strata_runner::image_io::read_png_linear(&d.join("map.png")).unwrap();
-    let lum: Vec<f32> = map.texels.iter().map(|c| c.y).collect();
+    let map_width = map.width as usize;
+    let lum: Vec<f32> = (0..h as usize)
+        .flat_map(|y| (0..w as usize).map(move |x| (x, y)))
+        .map(|(x, y)| map.texels[y * map_width + x].y)
+        .collect();
     let (lo, hi) = lum
         .iter()
         .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));

@@ -9,7 +9,7 @@ use crate::film::{Film, is_film_path};
 use crate::image_io::{
     Transfer, check_output, check_writable_dir, write_atomic, write_file, write_png_rgb8,
 };
-use crate::plot::spp_heat_map;
+use crate::plot::spp_map_with_legend;
 
 /// Whether two paths name the same file, by their absolute forms (the
 /// files need not exist yet).
@@ -37,27 +37,23 @@ pub(crate) fn spp_summary(film: &Film) -> String {
     )
 }
 
-/// Writes the heat map of the samples each pixel of `film` took.
+/// Writes the heat map of the samples each pixel of `film` took, with
+/// its legend (the colour scale and its spp values) under it.
 pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
     let base = film.key.adaptive_base().unwrap_or(film.key.spp());
-    let bytes = spp_heat_map(&film.pixels, base, film.key.spp());
+    let (width, height) = (film.window.width, film.window.height);
+    let (bytes, w, h) = spp_map_with_legend(&film.pixels, width, height, base, film.key.spp())?;
     let mut meta = film.metadata(Transfer::Srgb);
     meta.push((
         "strata.spp_map".into(),
         format!(
-            "samples per pixel, viridis on a log scale from {base} (dark) to {} (yellow)",
+            "samples per pixel of the {width}x{height} pixels at the top left, viridis on a \
+             log scale from {base} (dark) to {} (yellow); the legend below",
             film.key.spp()
         ),
     ));
-    write_png_rgb8(
-        path,
-        film.window.width,
-        film.window.height,
-        &bytes,
-        Transfer::Srgb,
-        &meta,
-    )
-    .with_context(|| format!("writing `{}`", path.display()))
+    write_png_rgb8(path, w, h, &bytes, Transfer::Srgb, &meta)
+        .with_context(|| format!("writing `{}`", path.display()))
 }
 
 /// `path` is a .png, .exr or .film name in a writable directory.
