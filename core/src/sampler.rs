@@ -13,8 +13,9 @@
 //! # Determinism
 //!
 //! Every value is a pure function of `(seed, pixel, sample index,
-//! dimension)`: [`Sampler::start_pixel_sample`] rebuilds all state from
-//! those numbers (see [`crate::rng`]), so samples may be drawn in any order,
+//! dimension)` and of what the sampler was built with (its spp; for
+//! [`ZSobol`] also the image resolution): [`Sampler::start_pixel_sample`]
+//! rebuilds all state from those numbers (see [`crate::rng`]), so samples may be drawn in any order,
 //! on any thread, in any tile, and revisiting a sample gives the same bits.
 //!
 //! # Kinds
@@ -52,7 +53,7 @@
 //! | [`UniformGrid`], [`Stratified`] | 1 to [`MAX_STRATA_SPP`] `= 2²⁴`; `new` returns `None` beyond | `spp` strata per dimension | unbounded | pass `i / spp`: a fresh stratified set |
 //! | [`Sobol`] | 1 to `u32::MAX` | `2^k` strata with `2^k` samples up to `k = 24`, the `f32` resolution; with `2^k > 2²⁴` samples each of the `2²⁴` values of a dimension comes `2^(k−24)` times | unbounded | the sequence goes on: every aligned block of `2^k` indices is a net |
 //! | [`Halton`] | 1 to `u32::MAX` | `b^k` strata in base `b`, `b^k` the least power `≥ spp`, at most `2²⁴` | 0–63: the prime bases 2–311; from 64 on: independent uniforms hashed from `(seed, pixel, index, d)` | blocks of `b^k` indices, each a fresh stratified set |
-//! | [`ZSobol`] | 1 to `u32::MAX`, as long as `2r + k ≤ 64` bits (`2^r ≥` the larger side, `2^k ≥ spp`); [`ZSobol::new`] refuses beyond | with `spp = 2^k`: `2^k` strata per pixel, `4^a · 2^k` per aligned `2^a × 2^a` pixel block; other spp take the first `spp` slots of `2^k` | unbounded | pass `i / spp`: a fresh, independently scrambled pattern |
+//! | [`ZSobol`] | 1 to `u32::MAX`, as long as `2r + k ≤ 64` bits (`2^r ≥` the larger side, `2^k ≥ spp`); [`ZSobol::new`] refuses beyond | with `spp = 2^k`: `2^k` strata per pixel, `4^a · 2^k` per aligned `2^a × 2^a` pixel block, up to the `f32` resolution of `2²⁴` strata as for [`Sobol`]; other spp take the first `spp` slots of `2^k` | unbounded | pass `i / spp`: a fresh, independently scrambled pattern |
 //!
 //! Apart from [`ZSobol`] (whose 64-bit index is the point), no kind forms a
 //! global index from the pixel and the sample index: the
@@ -760,7 +761,7 @@ const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 /// for its current pixel (a path of 5 segments draws 28 dimensions).
 const SOBOL_KEYED_BLOCKS: usize = 2;
 
-/// The keys of Sobol' block `block` (dimensions `8·block ..`) of the pixel
+/// The keys of Sobol' block `block` (dimensions `16·block ..`) of the pixel
 /// hashed to `pixel_key`: each lane's pair key (index shuffle) and
 /// dimension key (output scramble).
 #[inline]
@@ -1274,6 +1275,9 @@ mod tests {
         assert_send_sync::<Independent>();
         assert_send_sync::<UniformGrid>();
         assert_send_sync::<Stratified>();
+        assert_send_sync::<Sobol>();
+        assert_send_sync::<Halton>();
+        assert_send_sync::<ZSobol>();
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! counts give the marginal cost: the difference of the instruction totals
 //! over the difference of pixel samples (`256 · 16` per run).
 
-use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 use strata_runner::workload::sampler_pattern;
 
 const SPP: u32 = 16;
@@ -26,7 +26,7 @@ fn main() {
         args.first(),
         args.get(1).and_then(|n| n.parse::<u32>().ok()),
     ) else {
-        eprintln!("usage: sampler_cost independent|grid|stratified|sobol|halton RUNS");
+        eprintln!("usage: sampler_cost independent|grid|stratified|sobol|halton|zsobol RUNS");
         std::process::exit(2);
     };
     let sum = match kind.as_str() {
@@ -35,6 +35,10 @@ fn main() {
         "stratified" => Stratified::new(SPP, 1).map(|s| runs(s, n)),
         "sobol" => Sobol::new(SPP, 1).map(|s| runs(s, n)),
         "halton" => Halton::new(SPP, 1).map(|s| runs(s, n)),
+        // The bench's 16 × 16 pixels as the image.
+        "zsobol" => ZSobol::new(SPP, 1, glam::UVec2::splat(16))
+            .ok()
+            .map(|s| runs(s, n)),
         _ => None,
     };
     match sum {

@@ -58,3 +58,8 @@ pub const MAX_REPETITIONS: u16 = 100;
 /// The longest minimum duration of one `bench` timing, in milliseconds
 /// (`--min-time-ms`): a minute.
 pub const MAX_MIN_TIME_MS: u64 = 60_000;
+
+/// The largest window `converge --error-spectrum` transforms (512 × 512):
+/// its periodogram is a direct transform, `W·H·(W + H)` operations, and
+/// each measured point keeps its `W·H` spectrum until the end.
+pub const MAX_SPECTRUM_PIXELS: u64 = 1 << 18;

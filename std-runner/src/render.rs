@@ -73,7 +73,12 @@ impl SamplerKind {
         resolution: UVec2,
         work: W,
     ) -> Result<W::Output> {
-        let refused = || anyhow!("--sampler {} takes no {spp} samples per pixel", self.name());
+        let refused = || {
+            anyhow!(
+                "the {} sampler takes no {spp} samples per pixel",
+                self.name()
+            )
+        };
         Ok(match self {
             SamplerKind::Independent => work.run(Independent::new(spp, seed).ok_or_else(refused)?),
             SamplerKind::Grid => work.run(UniformGrid::new(spp, seed).ok_or_else(refused)?),

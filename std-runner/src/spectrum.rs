@@ -283,8 +283,9 @@ impl ErrorSpectrum {
         if count == 0 { 0.0 } else { sum / count as f64 }
     }
 
-    /// The mean power over every frequency but zero: the error variance
-    /// per pixel (Parseval), for normalising.
+    /// The mean power over every frequency but zero, for normalising: by
+    /// Parseval, `n / (n − 1)` times the error's variance over the `n`
+    /// pixels (the mean is removed, so the zero frequency holds nothing).
     #[must_use]
     pub fn total_power(&self) -> f64 {
         self.band_power(f64::INFINITY)

@@ -1506,8 +1506,35 @@ fn converge_error_spectrum_writes_plot_csv_and_ratios() {
         ),
         (&["--spps", "0"], "0 is not in 1"),
         (&["--spps", "4", "--with-1024"], "cannot be used with"),
+        // No frequency of the low band fits in 8 pixels.
+        (
+            &["--error-spectrum", "s.png", "--pixel-bounds", "0,8,0,8"][..],
+            "wider or taller than 8 pixels",
+        ),
     ] {
         let err = refused(d, &[&base[..], extra].concat());
         assert!(err.contains(says), "{extra:?}: {err}");
+    }
+    let err = refused(
+        d,
+        &[
+            "converge",
+            "--width",
+            "1024",
+            "--pixel-bounds",
+            "0,1024,0,576",
+            "--error-spectrum",
+            "s.png",
+        ],
+    );
+    assert!(err.contains("at most 262144 pixels"), "{err}");
+    // Refused before any work: no file of the refused runs.
+    for name in [
+        "s.png",
+        "s.csv",
+        "converge-week09.csv",
+        "converge-week09.png",
+    ] {
+        assert!(!d.join(name).exists(), "{name}");
     }
 }

@@ -120,7 +120,8 @@ impl core::error::Error for ZSobolError {}
 /// hashed Morton curve so that neighbouring pixels get complementary
 /// points: the same per-pixel nets as [`Sobol`](super::Sobol), but an error
 /// image of blue noise. Built for an image resolution; a pure function of
-/// `(seed, pixel, sample index, dimension)` like every sampler.
+/// `(seed, pixel, sample index, dimension)` for a given spp and resolution,
+/// like every sampler.
 ///
 /// # Construction
 ///
@@ -183,9 +184,12 @@ impl core::error::Error for ZSobolError {}
 ///   generator matrix has a one in the top row of every column (the top
 ///   bit of `y` is the parity of the index), so it takes 64 columns.
 /// - **Pixels outside the resolution** (a filter's reach, a caller's
-///   choice) are valid: their coordinates are taken modulo `2^r` and the
-///   quotient keys every hash like a pass, so they get an independent
-///   pattern rather than one interleaved with the image's.
+///   choice) are valid. Up to `2^r` (the power of two at or above the
+///   larger side) they belong to the image's pattern: the Morton curve
+///   covers the `2^r × 2^r` square. Beyond it, coordinates are taken
+///   modulo `2^r` and the quotient keys every hash like a pass, so those
+///   pixels get an independent pattern rather than one interleaved with
+///   the image's.
 /// - **One scramble per image.** Every pixel shares the scrambled
 ///   sequence of a dimension, so how well one seed stratifies (the
 ///   scramble's few top-level choices) shows in the whole image: an
@@ -572,8 +576,8 @@ mod tests {
     /// index shuffled, then a bit-by-bit Sobol' product whose second
     /// dimension is built from its definition (column `j` has a one in row
     /// `i` iff `C(j, i)` is odd, i.e. `i & j == i`, Lucas). This checks the
-    /// high-column tables and that 1D draws may skip the digits above bit
-    /// 24.
+    /// 64-bit superset sums of the second dimension and the memo's split of
+    /// the digits (pixel, top slot digit, lower slot digits).
     #[test]
     fn values_equal_the_direct_64_bit_computation() {
         fn full_shuffle(m: u64, dkey: u64, k: u32, bits: u32) -> u64 {

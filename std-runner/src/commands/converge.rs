@@ -14,6 +14,7 @@ use crate::commands::{
     check_output_ext, check_pixels, height_for, resolve_scene, samplers_or_all, window_of,
 };
 use crate::image_io::say;
+use crate::limits::MAX_SPECTRUM_PIXELS;
 use crate::plot;
 use crate::render::SamplerKind;
 use crate::scenes::SceneData;
@@ -59,19 +60,47 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         &|_| {},
     )?;
     let points: Vec<Point> = measured.iter().map(|m| m.0).collect();
-    plan.write(&points)?;
-    say(&study::table(&points, &plan.samplers, &plan.spps));
-    say(&format!(
-        "wrote {} and {}",
-        plan.csv.display(),
-        plan.plot.display()
-    ));
-    if let Some((png, csv)) = &plan.error_spectrum {
-        let spectra: Vec<(Point, ErrorSpectrum)> = measured
+    let spectra: Option<Vec<(Point, ErrorSpectrum)>> = plan.error_spectrum.as_ref().map(|_| {
+        measured
             .into_iter()
             .filter_map(|(p, s)| Some((p, s?)))
-            .collect();
-        plan.write_error_spectra(&spectra, args.seeds, png, csv)?;
+            .collect()
+    });
+    // Every file is drawn before any is written: all of them or none.
+    let mut files = plan.convergence_files(&points)?;
+    if let (Some(spectra), Some((png, csv))) = (&spectra, &plan.error_spectrum) {
+        files.extend(plan.error_spectrum_files(spectra, png, csv)?);
+    }
+    write_all(&files)?;
+    say(&study::table(&points, &plan.samplers, &plan.spps));
+    if let Some(spectra) = &spectra {
+        say(&plan.error_spectrum_table(spectra, args.seeds));
+    }
+    let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
+    say(&format!("wrote {}", names.join(", ")));
+    Ok(())
+}
+
+/// A file `strata converge` writes: a PNG (8-bit RGB and its size) or a
+/// text.
+enum Contents {
+    Png(Vec<u8>, u32, u32),
+    Text(String),
+}
+
+/// Writes every file, or none: a failure removes those already written.
+fn write_all(files: &[(PathBuf, Contents)]) -> Result<()> {
+    for (i, (path, contents)) in files.iter().enumerate() {
+        let written = match contents {
+            Contents::Png(rgb, w, h) => plot::write_png(path, rgb, *w, *h),
+            Contents::Text(text) => write_text(path, text),
+        };
+        if let Err(e) = written {
+            for (done, _) in &files[..i] {
+                std::fs::remove_file(done).ok();
+            }
+            return Err(e);
+        }
     }
     Ok(())
 }
@@ -140,6 +169,26 @@ impl ConvergeArgs {
         let error_spectrum = match &self.error_spectrum {
             Some(p) => {
                 check_output_ext(p, "png", "--error-spectrum")?;
+                // The low band needs a frequency below LOW_BAND other than
+                // 0 (the mean, removed); the periodogram is a direct
+                // transform kept per point, so its window is capped.
+                if window.width.max(window.height) as f64 * LOW_BAND <= 1.0 {
+                    bail!(
+                        "--error-spectrum needs a window wider or taller than {} pixels \
+                         (its low band is below {LOW_BAND} cycles per pixel); this one is {}x{}",
+                        (1.0 / LOW_BAND) as u32,
+                        window.width,
+                        window.height
+                    );
+                }
+                if window.area() as u64 > MAX_SPECTRUM_PIXELS {
+                    bail!(
+                        "--error-spectrum takes windows of at most {MAX_SPECTRUM_PIXELS} pixels; \
+                         this one is {}x{} (narrow it with --pixel-bounds)",
+                        window.width,
+                        window.height
+                    );
+                }
                 let beside = p.with_extension("csv");
                 for (other, flag) in [(&plot, "--plot"), (&csv, "--csv")] {
                     if same_path(p, other) || same_path(&beside, other) {
@@ -174,8 +223,8 @@ impl ConvergeArgs {
 }
 
 impl ConvergePlan<'_> {
-    /// Writes the plot and the CSV of `points`: both files or neither.
-    fn write(&self, points: &[Point]) -> Result<()> {
+    /// The plot and the CSV of `points`.
+    fn convergence_files(&self, points: &[Point]) -> Result<Vec<(PathBuf, Contents)>> {
         let w = self.view.window;
         let title = format!(
             "{}: RMSE of a {}x{} crop vs spp",
@@ -183,24 +232,34 @@ impl ConvergePlan<'_> {
         );
         let (pw, ph) = PLOT_SIZE;
         let image = study::plot_convergence(points, &self.samplers, &title, pw, ph)?;
-        let text = study::csv(points);
-        plot::write_png(&self.plot, &image, pw, ph)?;
-        if let Err(e) = write_text(&self.csv, &text) {
-            std::fs::remove_file(&self.plot).ok();
-            return Err(e);
-        }
-        Ok(())
+        Ok(vec![
+            (self.plot.clone(), Contents::Png(image, pw, ph)),
+            (self.csv.clone(), Contents::Text(study::csv(points))),
+        ])
     }
 
-    /// The error-spectrum view: its table, plot and CSV (both files or
-    /// neither).
-    fn write_error_spectra(
+    /// The error-spectrum view's plot and CSV.
+    fn error_spectrum_files(
         &self,
         spectra: &[(Point, ErrorSpectrum)],
-        seeds: u32,
         png: &Path,
         csv: &Path,
-    ) -> Result<()> {
+    ) -> Result<Vec<(PathBuf, Contents)>> {
+        let title = format!(
+            "{}: radial power spectrum of the error (luminance)",
+            self.view.scene.name
+        );
+        let (pw, ph) = PLOT_SIZE;
+        let image = study::plot_error_spectra(spectra, &title, pw, ph)?;
+        Ok(vec![
+            (png.to_path_buf(), Contents::Png(image, pw, ph)),
+            (csv.to_path_buf(), Contents::Text(study::error_csv(spectra))),
+        ])
+    }
+
+    /// The error-spectrum table: each point's RMSE and low-band power, and
+    /// their ratios to the first sampler's.
+    fn error_spectrum_table(&self, spectra: &[(Point, ErrorSpectrum)], seeds: u32) -> String {
         let first = self.samplers[0];
         let find = |s: SamplerKind, spp: u32| {
             spectra
@@ -238,20 +297,6 @@ impl ConvergePlan<'_> {
                 .ok();
             }
         }
-        say(&table);
-        let title = format!(
-            "{}: radial power spectrum of the error (luminance)",
-            self.view.scene.name
-        );
-        let (pw, ph) = PLOT_SIZE;
-        let image = study::plot_error_spectra(spectra, &title, pw, ph)?;
-        let text = study::error_csv(spectra);
-        plot::write_png(png, &image, pw, ph)?;
-        if let Err(e) = write_text(csv, &text) {
-            std::fs::remove_file(png).ok();
-            return Err(e);
-        }
-        say(&format!("wrote {} and {}", png.display(), csv.display()));
-        Ok(())
+        table
     }
 }
