@@ -136,7 +136,9 @@ pub struct ConvergeArgs {
     /// each point's error image (luminance, mean removed), averaged over
     /// the seeds, plotted radially to this PNG with its CSV beside it
     /// (same name, .csv); prints each sampler's power below 0.125 cycles
-    /// per pixel and its RMSE as ratios to the first sampler's.
+    /// per pixel and its RMSE as ratios to the first sampler's. The window
+    /// must be wider or taller than 8 pixels (the low band's lowest
+    /// frequency) and at most 512 pixels a side.
     #[arg(long)]
     pub error_spectrum: Option<PathBuf>,
 }

@@ -59,7 +59,8 @@ pub const MAX_REPETITIONS: u16 = 100;
 /// (`--min-time-ms`): a minute.
 pub const MAX_MIN_TIME_MS: u64 = 60_000;
 
-/// The largest window `converge --error-spectrum` transforms (512 × 512):
-/// its periodogram is a direct transform, `W·H·(W + H)` operations, and
-/// each measured point keeps its `W·H` spectrum until the end.
-pub const MAX_SPECTRUM_PIXELS: u64 = 1 << 18;
+/// The longest side of a window `converge --error-spectrum` transforms:
+/// its periodogram is a direct transform, `W·H·(W + H)` operations (at
+/// most `2²⁸` per image at 512 × 512), and each measured point keeps its
+/// `W·H` spectrum until the end.
+pub const MAX_SPECTRUM_SIDE: u32 = 512;

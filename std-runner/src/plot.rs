@@ -198,10 +198,29 @@ fn spp_colour(taken: f64, base: u32, max: u32) -> RGBColor {
     ViridisRGB.get_color_normalized(t, 0.0, 1.0)
 }
 
-/// The spp values a legend from `base` to `max` labels: both ends and the
-/// powers of two between, thinned so neighbours on a log scale `length`
-/// pixels long are at least `spacing` pixels apart.
-fn legend_ticks(base: u32, max: u32, length: f64, spacing: f64) -> Vec<u32> {
+/// The width the legend's 13-pixel labels take per digit (an upper bound
+/// for the bundled font's digits).
+const LABEL_DIGIT_WIDTH: f64 = 8.0;
+
+/// Where the label of tick `v` at `at` on a bar `length` long lies: the
+/// first is anchored left at the bar's start, the last right at its end,
+/// the others centred; extents are padded by half of a 6-pixel gap.
+fn label_extent(v: u32, at: f64, first: bool, last: bool, length: f64) -> (f64, f64) {
+    let w = v.to_string().len() as f64 * LABEL_DIGIT_WIDTH;
+    let (lo, hi) = if first {
+        (-3.0, w - 3.0)
+    } else if last {
+        (length + 3.0 - w, length + 3.0)
+    } else {
+        (at - w / 2.0, at + w / 2.0)
+    };
+    (lo - 3.0, hi + 3.0)
+}
+
+/// The spp values a legend from `base` to `max` labels on a log-scale bar
+/// `length` pixels long: both ends and the powers of two between, thinned
+/// so that no two labels overlap ([`label_extent`]).
+fn legend_ticks(base: u32, max: u32, length: f64) -> Vec<u32> {
     let (base, max) = (base.max(1), max.max(base).max(1));
     let at = |v: u32| {
         if max == base {
@@ -211,10 +230,12 @@ fn legend_ticks(base: u32, max: u32, length: f64, spacing: f64) -> Vec<u32> {
                 * length
         }
     };
+    let extent = |v: u32, first: bool, last: bool| label_extent(v, at(v), first, last, length);
     let mut ticks = vec![base];
     let mut p = base.checked_next_power_of_two().unwrap_or(u32::MAX);
     while p < max {
-        if p > base && at(p) - at(*ticks.last().expect("one tick")) >= spacing {
+        let previous = *ticks.last().expect("one tick");
+        if p > base && extent(previous, ticks.len() == 1, false).1 <= extent(p, false, false).0 {
             ticks.push(p);
         }
         p = match p.checked_mul(2) {
@@ -223,8 +244,9 @@ fn legend_ticks(base: u32, max: u32, length: f64, spacing: f64) -> Vec<u32> {
         };
     }
     if max > base {
-        // The last label always shows; it displaces a power of two too near.
-        while ticks.len() > 1 && at(max) - at(*ticks.last().expect("one tick")) < spacing {
+        // The last label always shows; it displaces the powers too near.
+        let last = extent(max, false, true).0;
+        while ticks.len() > 1 && extent(*ticks.last().expect("one tick"), false, false).1 > last {
             ticks.pop();
         }
         ticks.push(max);
@@ -288,15 +310,15 @@ pub fn spp_map_with_legend(
             buf[at..at + 3].copy_from_slice(&[c.0, c.1, c.2]);
         }
     }
-    let ticks = legend_ticks(base, max, length, 34.0);
+    let ticks = legend_ticks(base, max, length);
     draw_on(&mut buf, w, h, "drawing the spp legend", |root| {
-        let style = TextStyle::from(("sans-serif", 13)).color(&BLACK).pos(
-            plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Top,
-            ),
-        );
-        for &v in &ticks {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let style = |h| {
+            TextStyle::from(("sans-serif", 13))
+                .color(&BLACK)
+                .pos(Pos::new(h, VPos::Top))
+        };
+        for (i, &v) in ticks.iter().enumerate() {
             let t = if hi > lo {
                 ((v as f64).ln() - lo) / (hi - lo)
             } else {
@@ -307,7 +329,16 @@ pub fn spp_map_with_legend(
                 vec![(x, bar_bottom as i32), (x, bar_bottom as i32 + 4)],
                 BLACK,
             ))?;
-            root.draw_text(&v.to_string(), &style, (x, bar_bottom as i32 + 6))?;
+            // The end labels stay inside the image: anchored at the
+            // bar's ends, as legend_ticks spaces them.
+            let (anchor, tx) = if i == 0 && ticks.len() > 1 {
+                (HPos::Left, x0 as i32 - 3)
+            } else if i + 1 == ticks.len() && ticks.len() > 1 {
+                (HPos::Right, x1 as i32 + 2)
+            } else {
+                (HPos::Center, x)
+            };
+            root.draw_text(&v.to_string(), &style(anchor), (tx, bar_bottom as i32 + 6))?;
         }
         Ok(())
     })?;
@@ -330,20 +361,31 @@ mod tests {
 
     #[test]
     fn legend_ticks_label_both_ends_and_powers_of_two() {
-        assert_eq!(
-            legend_ticks(16, 256, 200.0, 30.0),
-            vec![16, 32, 64, 128, 256]
-        );
-        assert_eq!(legend_ticks(16, 16, 200.0, 30.0), vec![16]);
-        assert_eq!(
-            legend_ticks(3, 100, 1000.0, 30.0),
-            vec![3, 4, 8, 16, 32, 64, 100]
-        );
-        // Thinned on a short bar; the last label displaces a near power.
-        let t = legend_ticks(1, 1 << 20, 200.0, 34.0);
-        assert_eq!((t[0], *t.last().unwrap()), (1, 1 << 20));
-        assert!(t.len() <= 7, "{t:?}");
-        assert_eq!(legend_ticks(16, 130, 200.0, 34.0), vec![16, 32, 64, 130]);
+        assert_eq!(legend_ticks(16, 256, 200.0), vec![16, 32, 64, 128, 256]);
+        assert_eq!(legend_ticks(16, 16, 200.0), vec![16]);
+        assert_eq!(legend_ticks(3, 100, 1000.0), vec![3, 4, 8, 16, 32, 64, 100]);
+        // The last label displaces a power too near it.
+        assert_eq!(legend_ticks(16, 130, 200.0), vec![16, 32, 64, 130]);
+        // Thinned on a short bar, and no two labels overlap.
+        for (base, max, length) in [(1, 1 << 20, 207.0), (1, u32::MAX, 207.0), (7, 9, 207.0)] {
+            let t = legend_ticks(base, max, length);
+            assert_eq!((t[0], *t.last().unwrap()), (base, max));
+            let at = |v: u32| {
+                ((v as f64).ln() - (base as f64).ln()) / ((max as f64).ln() - (base as f64).ln())
+                    * length
+            };
+            let n = t.len();
+            let extents: Vec<_> = t
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| label_extent(v, at(v), i == 0, i + 1 == n, length))
+                .collect();
+            for pair in extents.windows(2) {
+                assert!(pair[0].1 <= pair[1].0, "{t:?}: {extents:?}");
+            }
+            // Inside the image: the bar starts 16 pixels in.
+            assert!(extents[0].0 >= -16.0 && extents[n - 1].1 <= length + 16.0);
+        }
     }
 
     #[test]

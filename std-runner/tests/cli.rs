@@ -1506,28 +1506,43 @@ fn converge_error_spectrum_writes_plot_csv_and_ratios() {
         ),
         (&["--spps", "0"], "0 is not in 1"),
         (&["--spps", "4", "--with-1024"], "cannot be used with"),
-        // No frequency of the low band fits in 8 pixels.
-        (
-            &["--error-spectrum", "s.png", "--pixel-bounds", "0,8,0,8"][..],
-            "wider or taller than 8 pixels",
-        ),
     ] {
         let err = refused(d, &[&base[..], extra].concat());
         assert!(err.contains(says), "{extra:?}: {err}");
     }
+    // A long thin window is as costly as a square one of its side.
     let err = refused(
         d,
         &[
             "converge",
+            "--cache-dir",
+            "never",
             "--width",
             "1024",
             "--pixel-bounds",
-            "0,1024,0,576",
+            "0,1024,0,16",
             "--error-spectrum",
             "s.png",
         ],
     );
-    assert!(err.contains("at most 262144 pixels"), "{err}");
+    assert!(err.contains("at most 512 pixels a side"), "{err}");
+    let err = refused(
+        d,
+        &[
+            "converge",
+            "--cache-dir",
+            "never",
+            "--width",
+            "32",
+            "--pixel-bounds",
+            "0,8,0,8",
+            "--error-spectrum",
+            "s.png",
+        ],
+    );
+    assert!(err.contains("wider or taller than 8 pixels"), "{err}");
+    // Refused before the reference is rendered: no cache was made.
+    assert!(!d.join("never").exists());
     // Refused before any work: no file of the refused runs.
     for name in [
         "s.png",

@@ -14,7 +14,7 @@ use crate::commands::{
     check_output_ext, check_pixels, height_for, resolve_scene, samplers_or_all, window_of,
 };
 use crate::image_io::say;
-use crate::limits::MAX_SPECTRUM_PIXELS;
+use crate::limits::MAX_SPECTRUM_SIDE;
 use crate::plot;
 use crate::render::SamplerKind;
 use crate::scenes::SceneData;
@@ -88,7 +88,9 @@ enum Contents {
     Text(String),
 }
 
-/// Writes every file, or none: a failure removes those already written.
+/// Writes every file, or none: a failure removes those this run already
+/// wrote (each replaced its old file atomically, so an old file of the
+/// same name is gone too).
 fn write_all(files: &[(PathBuf, Contents)]) -> Result<()> {
     for (i, (path, contents)) in files.iter().enumerate() {
         let written = match contents {
@@ -181,10 +183,10 @@ impl ConvergeArgs {
                         window.height
                     );
                 }
-                if window.area() as u64 > MAX_SPECTRUM_PIXELS {
+                if window.width.max(window.height) > MAX_SPECTRUM_SIDE {
                     bail!(
-                        "--error-spectrum takes windows of at most {MAX_SPECTRUM_PIXELS} pixels; \
-                         this one is {}x{} (narrow it with --pixel-bounds)",
+                        "--error-spectrum takes windows of at most {MAX_SPECTRUM_SIDE} pixels a \
+                         side; this one is {}x{} (narrow it with --pixel-bounds)",
                         window.width,
                         window.height
                     );

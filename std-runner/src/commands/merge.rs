@@ -5,9 +5,7 @@ use anyhow::{Result, bail};
 
 use crate::cli::MergeArgs;
 use crate::commands::check_output_ext;
-use crate::commands::output::{
-    check_output_or_film, same_path, write_film_or_image, write_spp_map,
-};
+use crate::commands::output::{SppMap, check_output_or_film, same_path, write_film_or_image};
 use crate::film::Film;
 use crate::image_io::say;
 
@@ -38,9 +36,15 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
         }
     }
     let film = crate::film::merge(&parts, &args.parts)?;
+    // Drawn before the image is written: a failure leaves no image.
+    let map = args
+        .spp_map
+        .as_ref()
+        .map(|_| SppMap::draw(&film))
+        .transpose()?;
     write_film_or_image(&args.output, &film, args.gamma)?;
-    if let Some(map) = &args.spp_map
-        && let Err(e) = write_spp_map(map, &film)
+    if let (Some(path), Some(map)) = (&args.spp_map, &map)
+        && let Err(e) = map.write(path)
     {
         std::fs::remove_file(&args.output).ok();
         return Err(e);

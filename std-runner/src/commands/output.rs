@@ -37,23 +37,52 @@ pub(crate) fn spp_summary(film: &Film) -> String {
     )
 }
 
-/// Writes the heat map of the samples each pixel of `film` took, with
-/// its legend (the colour scale and its spp values) under it.
-pub(crate) fn write_spp_map(path: &Path, film: &Film) -> Result<()> {
-    let base = film.key.adaptive_base().unwrap_or(film.key.spp());
-    let (width, height) = (film.window.width, film.window.height);
-    let (bytes, w, h) = spp_map_with_legend(&film.pixels, width, height, base, film.key.spp())?;
-    let mut meta = film.metadata(Transfer::Srgb);
-    meta.push((
-        "strata.spp_map".into(),
-        format!(
-            "samples per pixel of the {width}x{height} pixels at the top left, viridis on a \
-             log scale from {base} (dark) to {} (yellow); the legend below",
-            film.key.spp()
-        ),
-    ));
-    write_png_rgb8(path, w, h, &bytes, Transfer::Srgb, &meta)
+/// The heat map of the samples each pixel of a film took, with its legend
+/// (the colour scale and its spp values) under it, drawn and ready to
+/// write: drawn before the image is written, so a drawing failure leaves
+/// no image behind.
+pub(crate) struct SppMap {
+    rgb: Vec<u8>,
+    width: u32,
+    height: u32,
+    meta: Vec<(String, String)>,
+}
+
+impl SppMap {
+    /// Draws the spp map of `film`.
+    pub(crate) fn draw(film: &Film) -> Result<Self> {
+        let base = film.key.adaptive_base().unwrap_or(film.key.spp());
+        let (w, h) = (film.window.width, film.window.height);
+        let (rgb, width, height) = spp_map_with_legend(&film.pixels, w, h, base, film.key.spp())?;
+        let mut meta = film.metadata(Transfer::Srgb);
+        meta.push((
+            "strata.spp_map".into(),
+            format!(
+                "samples per pixel of the {w}x{h} pixels at the top left, viridis on a \
+                 log scale from {base} (dark) to {} (yellow); the legend below",
+                film.key.spp()
+            ),
+        ));
+        Ok(Self {
+            rgb,
+            width,
+            height,
+            meta,
+        })
+    }
+
+    /// Writes the map as a PNG, atomically.
+    pub(crate) fn write(&self, path: &Path) -> Result<()> {
+        write_png_rgb8(
+            path,
+            self.width,
+            self.height,
+            &self.rgb,
+            Transfer::Srgb,
+            &self.meta,
+        )
         .with_context(|| format!("writing `{}`", path.display()))
+    }
 }
 
 /// `path` is a .png, .exr or .film name in a writable directory.

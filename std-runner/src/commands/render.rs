@@ -9,7 +9,7 @@ use strata::render::{Adaptive, AdaptiveError, Tile, TileStats};
 
 use crate::cli::RenderArgs;
 use crate::commands::output::{
-    check_output_or_film, same_path, spp_summary, write_film_or_image, write_spp_map, write_text,
+    SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
 use crate::commands::{
     check_output_ext, check_pixels, height_for, progress_bar, resolve_scene, window_of,
@@ -163,9 +163,14 @@ impl RenderArgs {
 impl RenderPlan<'_> {
     /// Writes the film or image and the spp map: both files or neither.
     fn write(&self, film: &Film) -> Result<()> {
+        let map = self
+            .spp_map
+            .as_ref()
+            .map(|_| SppMap::draw(film))
+            .transpose()?;
         write_film_or_image(&self.output, film, self.gamma)?;
-        if let Some(map) = &self.spp_map
-            && let Err(e) = write_spp_map(map, film)
+        if let (Some(path), Some(map)) = (&self.spp_map, &map)
+            && let Err(e) = map.write(path)
         {
             std::fs::remove_file(&self.output).ok();
             return Err(e);

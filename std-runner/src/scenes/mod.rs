@@ -318,13 +318,21 @@ mod tests {
             (0..s.spheres.len())
                 .any(|i| matches!(of(i), Material::Metal { roughness, .. } if roughness > 0.0))
         );
-        // The floor's top is y = 0; the other spheres stand on it.
+        // The floor's top is half a cell from the checker's boundaries
+        // (so rounding never flips a cell); the other spheres stand on it.
         let floor = s.spheres[0];
-        assert_eq!(floor.center.y + floor.radius, 0.0);
+        let top = floor.center.y + floor.radius;
+        let Material::Lambertian {
+            albedo: Texture::Checker { scale, .. },
+        } = of(0)
+        else {
+            panic!("a checker floor")
+        };
+        assert_eq!((top / scale).rem_euclid(1.0), 0.5, "floor top {top}");
         for i in 1..s.spheres.len() {
             if i != lights[0] {
                 let b = s.spheres[i];
-                assert!((b.center.y - b.radius).abs() < 1e-6, "sphere {i}");
+                assert!((b.center.y - b.radius - top).abs() < 1e-6, "sphere {i}");
             }
         }
         // The frame's width at the distance of what it looks at.
@@ -335,6 +343,7 @@ mod tests {
         let light = s.spheres[lights[0]];
         assert_eq!(light.radius, CAUSTICS_LIGHT_RADIUS);
         assert!(light.radius <= width / 20.0, "{} vs {width}", light.radius);
+        assert!((width / light.radius - 40.0).abs() < 2.0, "about 1/40");
         let Background::Flat(sky) = s.background else {
             panic!("a uniform sky")
         };
