@@ -618,6 +618,15 @@ mod tests {
             (4, UVec2::splat(1 << 31)), // 64 bits
             (1, UVec2::splat(u32::MAX)),
             (2, UVec2::new(320, 180)),
+            // Every split of the slot digits the memo makes: k = 2 (the
+            // top digit only), 3 (top and lone bit), 4, 5, 6 and more.
+            (3, UVec2::new(40, 30)),
+            (8, UVec2::new(320, 180)),
+            (5, UVec2::new(320, 180)),
+            (16, UVec2::new(320, 180)),
+            (12, UVec2::new(7, 3)),
+            (32, UVec2::new(64, 64)),
+            (64, UVec2::new(1000, 10)),
         ];
         for (spp, res) in cases {
             let mut s = ZSobol::new(spp, 5, res).unwrap();
