@@ -49,6 +49,10 @@ pub enum Command {
     /// crop against a cached high-spp reference, as CSV, a log–log plot
     /// and fitted slopes.
     Converge(ConvergeArgs),
+    /// Measure adaptive sampling against uniform sampling at equal cost:
+    /// RMSE and relMSE against a cached reference, cost as rays and as
+    /// CPU seconds, and the adaptive image's bias.
+    Adaptive(AdaptiveArgs),
     /// Render one scene with several samplers at the same spp, side by
     /// side in one labelled PNG (default: the `horizon` checker plane).
     Aliasing(AliasingArgs),
@@ -141,6 +145,54 @@ pub struct ConvergeArgs {
     /// frequency) and at most 512 pixels a side.
     #[arg(long)]
     pub error_spectrum: Option<PathBuf>,
+}
+
+/// [`strata::render::Adaptive::DEFAULT_THRESHOLD`] as `--adaptive`
+/// shows it (a test checks they agree).
+pub const DEFAULT_THRESHOLD_TEXT: &str = "0.001";
+
+/// `strata adaptive` flags.
+#[derive(Debug, Args)]
+pub struct AdaptiveArgs {
+    /// A built-in scene or a TOML scene file.
+    #[arg(long, default_value = "caustics")]
+    pub scene: String,
+    /// Image width in pixels, height by the scene's aspect [default: the
+    /// scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
+    pub width: Option<u32>,
+    /// The crop measured, `x0,x1,y0,y1` in pixels [default: the whole
+    /// image].
+    #[arg(long, value_parser = pixel_bounds)]
+    pub pixel_bounds: Option<[u32; 4]>,
+    /// Ray segments per path [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    pub max_depth: Option<u32>,
+    /// Pixel sampler of the adaptive and the uniform renders.
+    #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
+    pub sampler: SamplerKind,
+    /// The adaptive threshold [default: the core's default].
+    #[arg(long, value_parser = positive_f32)]
+    pub threshold: Option<f32>,
+    /// Samples every pixel takes first [default: the core's default].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub min_spp: Option<u32>,
+    /// The most samples a pixel takes.
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub max_spp: u32,
+    /// Seeds per row (adaptive and each uniform spp).
+    #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
+    pub seeds: u32,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
+    pub threads: u16,
+    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
+    /// ~/.cache/strata].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Also write the rows as CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
 }
 
 /// `strata aliasing` flags.
@@ -307,23 +359,29 @@ pub struct RenderArgs {
     /// Render only sample indices A..B-1 of every pixel (within 0..spp).
     #[arg(long, value_parser = sample_range)]
     pub samples: Option<std::ops::Range<u32>>,
-    /// Adaptive sampling: after --spp samples, each pixel takes batches of
-    /// --spp more while its relative error exceeds THRESHOLD, up to
-    /// --max-spp. The error is the standard error of the pixel's mean
-    /// luminance over that mean (over 0.05 for darker pixels).
+    /// Adaptive sampling (instead of --spp): every pixel takes a pilot of
+    /// --min-spp/2 samples in two halves, then a rest of at least
+    /// --min-spp/2 as long as the pilot asks, up to --max-spp in all, and
+    /// stays unbiased; a smaller THRESHOLD asks for more samples where
+    /// the pilot is noisy (see the README; default 0.001).
     #[arg(
         long,
         value_name = "THRESHOLD",
         value_parser = positive_f32,
-        requires = "max_spp",
-        conflicts_with = "samples"
+        num_args = 0..=1,
+        default_missing_value = DEFAULT_THRESHOLD_TEXT,
+        conflicts_with_all = ["samples", "spp"]
     )]
     pub adaptive: Option<f32>,
+    /// The fewest samples a pixel takes with --adaptive (a multiple of 4).
+    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MIN, value_parser = value_parser!(u32).range(2..=MAX_SPP as i64))]
+    pub min_spp: u32,
     /// The most samples a pixel takes with --adaptive.
-    #[arg(long, requires = "adaptive", value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
-    pub max_spp: Option<u32>,
+    #[arg(long, requires = "adaptive", default_value_t = 1024, value_parser = value_parser!(u32).range(2..=MAX_SPP as i64))]
+    pub max_spp: u32,
     /// With --adaptive, also write a heat map of the samples each pixel
-    /// took as a PNG (viridis, log scale: dark = --spp, yellow = --max-spp),
+    /// took as a PNG (viridis, log scale: dark = --min-spp, yellow =
+    /// --max-spp),
     /// with a legend under it (at least 240 pixels wide).
     #[arg(long, requires = "adaptive")]
     pub spp_map: Option<PathBuf>,
@@ -470,6 +528,12 @@ pub struct VerifyArgs {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bare_adaptive_shows_the_core_default_threshold() {
+        let t: f32 = DEFAULT_THRESHOLD_TEXT.parse().unwrap();
+        assert_eq!(t, strata::render::Adaptive::DEFAULT_THRESHOLD);
+    }
 
     /// Every `--filter` name is the core's kind of that name, with its
     /// usual parameters and radius.

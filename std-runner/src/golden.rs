@@ -98,8 +98,8 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("showcase", "stratified+lanczos", 0xcc1e2c3ebebefc9c),
     ("week09", "halton+gaussian", 0xb9e7b0ef8cb82649),
     ("horizon", "stratified+texture-box", 0x590209255971fe33),
-    ("week09", "sobol+adaptive", 0xbc65cf2a907b80b3),
-    ("cover", "independent+adaptive", 0x47bba7a9e811a346),
+    ("week09", "sobol+adaptive", 0x431895f8b8b593be),
+    ("cover", "independent+adaptive", 0x58b0c5fb31c6dbb6),
     ("week09", "scene", 0x7ee690f76348c390),
     ("cover", "scene", 0xdec2984dedc5ee3f),
     ("showcase", "scene", 0x0fd2d63ec0dc14d1),
@@ -109,18 +109,18 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
         "scene",
         0x5d436e3c9fec95bc,
     ),
-    ("week09", "file.png", 0x5e16a802be36156d),
-    ("week09", "file.exr", 0x45af6616f05f8f21),
-    ("week09", "file.film", 0x3f8cc22ba20e45f0),
-    ("cover", "file.png", 0x85cbdb7f362a9bb4),
-    ("cover", "file.exr", 0xdfd4963265788b66),
-    ("cover", "file.film", 0x70a06f39cf8674f1),
-    ("showcase", "file.png", 0xa3b56ac2c0d05b8c),
-    ("showcase", "file.exr", 0x872b69b5d64e2123),
-    ("showcase", "file.film", 0x3e0955a08d614203),
-    ("horizon", "file.png", 0x48f5456a29856ed1),
-    ("horizon", "file.exr", 0x09f1f0e1751be195),
-    ("horizon", "file.film", 0x07b7081baf32d3d3),
+    ("week09", "file.png", 0x9097fc6247bdb0a2),
+    ("week09", "file.exr", 0x9a899daf3819750a),
+    ("week09", "file.film", 0x8417975435d57835),
+    ("cover", "file.png", 0xb69e6090fefb8e1b),
+    ("cover", "file.exr", 0xbe1dc006d27e19d9),
+    ("cover", "file.film", 0xaf05460e968db57c),
+    ("showcase", "file.png", 0xa9018edf28b0df6b),
+    ("showcase", "file.exr", 0xd04faa5c5cd560d6),
+    ("showcase", "file.film", 0x40f3587e025a2304),
+    ("horizon", "file.png", 0xbc75e2793a8c626c),
+    ("horizon", "file.exr", 0x3b0cb656f3609e3c),
+    ("horizon", "file.film", 0xd24937984880da72),
     ("week09", "zsobol", 0xc51a6e4b93c45b74),
     ("cover", "zsobol", 0xce56cb08457f5d8f),
     ("showcase", "zsobol", 0x8489a2810577e7db),
@@ -137,9 +137,9 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("caustics", "halton", 0xb61a2518ad22d907),
     ("caustics", "zsobol", 0xa0cc35579024951c),
     ("caustics", "scene", 0x03a5d427e40e1807),
-    ("caustics", "file.png", 0x1fa6eb84c3671570),
-    ("caustics", "file.exr", 0x0a297a13303af3ec),
-    ("caustics", "file.film", 0x984d76eeb59a4732),
+    ("caustics", "file.png", 0x04c51b2f918e08d7),
+    ("caustics", "file.exr", 0x31ab532233891317),
+    ("caustics", "file.film", 0x111588c9696319c5),
 ];
 
 /// The files locked byte for byte for each built-in scene: the golden
@@ -156,7 +156,7 @@ pub enum Variant {
     Filter(strata::filter::FilterKind),
     /// The box-filtered checker (`--texture-filter box`).
     TextureBox,
-    /// Adaptive sampling: base [`SPP`], at most 4 × [`SPP`], threshold 0.05.
+    /// Adaptive sampling: at least [`SPP`], at most 4 × [`SPP`], threshold 0.002.
     Adaptive,
 }
 
@@ -290,7 +290,7 @@ pub fn render_variant_hash(
         Some(Variant::TextureBox) => job.texture_filter = strata::render::TextureFilter::Box,
         Some(Variant::Adaptive) => {
             job.adaptive = Some(
-                strata::render::Adaptive::new(SPP, 4 * SPP, 0.05)
+                strata::render::Adaptive::new(SPP, 4 * SPP, 0.002)
                     .map_err(|e| anyhow!("adaptive: {e}"))?,
             );
             job.spp = 4 * SPP;

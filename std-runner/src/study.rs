@@ -18,6 +18,8 @@ use crate::render::{Job, SamplerKind, run};
 use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 
+pub mod adaptive;
+
 /// Root mean square error over pixels and RGB channels, in f64.
 ///
 /// # Panics

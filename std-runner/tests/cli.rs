@@ -1095,19 +1095,15 @@ fn filters_are_chosen_on_the_command_line_and_named_in_metadata() {
 fn adaptive_renders_split_merge_and_write_an_spp_map() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let adaptive = ["--adaptive", "0.05", "--max-spp", "48"];
-    fn with<'a>(adaptive: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
-        [adaptive, extra].concat()
-    }
-    let said = {
+    let adaptive = ["--adaptive", "0.002", "--min-spp", "8", "--max-spp", "48"];
+    // cover_render's flags but --spp, which --adaptive replaces.
+    let render = |name: &str, extra: &[&str]| {
         let mut args = vec![
             "render",
             "--scene",
             "cover",
             "--width",
             "40",
-            "--spp",
-            "6",
             "--seed",
             "3",
             "--max-depth",
@@ -1115,16 +1111,16 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
             "--sampler",
             "sobol",
         ];
-        args.extend_from_slice(&with(
-            &adaptive,
-            &["--spp-map", "map.png", "-o", "full.png"],
-        ));
+        args.extend_from_slice(&adaptive);
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", name]);
         ok(d, &args)
     };
-    assert!(said.contains("adaptive 6..48 spp at 0.05 (mean"), "{said}");
-    cover_render(d, "full.exr", &adaptive);
+    let said = render("full.png", &["--spp-map", "map.png"]);
+    assert!(said.contains("adaptive 8..48 spp at 0.002 (mean"), "{said}");
+    render("full.exr", &[]);
     let full = String::from_utf8_lossy(&bytes(&d.join("full.png"))).into_owned();
-    assert!(full.contains("threshold=0.05 base=6 max=48"), "metadata");
+    assert!(full.contains("threshold=0.002 min=8 max=48"), "metadata");
     // The map is the image's pixels with the legend under it (padded to
     // the legend's width), and varies: dark at the base count, brighter
     // where pixels took more.
@@ -1146,12 +1142,8 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
     assert!(hi > lo + 0.2, "spp map from {lo} to {hi}");
     // Crops of an adaptive render merge into the one-shot image, and so
     // does its spp map.
-    cover_render(d, "a.film", &with(&adaptive, &["--crop", "0,0.5,0,1"]));
-    cover_render(
-        d,
-        "b.film",
-        &with(&adaptive, &["--crop", "0.5,1,0,1", "--threads", "1"]),
-    );
+    render("a.film", &["--crop", "0,0.5,0,1"]);
+    render("b.film", &["--crop", "0.5,1,0,1", "--threads", "1"]);
     ok(
         d,
         &[
@@ -1191,6 +1183,26 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
             "u.film",
         ],
     );
+    // Bare --adaptive takes the documented defaults.
+    let said = ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "8",
+            "--adaptive",
+            "-o",
+            "def.png",
+        ],
+    );
+    let want = format!(
+        "adaptive {}..1024 spp at {} (mean",
+        strata::render::Adaptive::DEFAULT_MIN,
+        strata::render::Adaptive::DEFAULT_THRESHOLD
+    );
+    assert!(said.contains(&want), "{said}");
     let e = refused(d, &["merge", "a.film", "u.film", "-o", "x.png"]);
     assert!(e.contains("adaptive is `off`"), "{e}");
     for (args, want) in [
@@ -1206,27 +1218,18 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
             ],
             "--samples",
         ),
-        (vec!["render", "--adaptive", "0.1"], "--max-spp"),
+        (vec!["render", "--spp", "16", "--adaptive"], "--spp"),
         (vec!["render", "--max-spp", "64"], "--adaptive"),
+        (vec!["render", "--min-spp", "64"], "--adaptive"),
+        (vec!["render", "--adaptive", "0"], "positive"),
+        (vec!["render", "--adaptive", "nan"], "positive"),
         (
-            vec!["render", "--adaptive", "0", "--max-spp", "64"],
-            "positive",
+            vec!["render", "--adaptive", "--min-spp", "6"],
+            "--min-spp 6 must be a multiple of 4",
         ),
         (
-            vec!["render", "--adaptive", "nan", "--max-spp", "64"],
-            "positive",
-        ),
-        (
-            vec![
-                "render",
-                "--spp",
-                "16",
-                "--adaptive",
-                "0.1",
-                "--max-spp",
-                "8",
-            ],
-            "--max-spp 8 is below the base count 16 (--spp or the scene's)",
+            vec!["render", "--adaptive", "--min-spp", "64", "--max-spp", "32"],
+            "--max-spp 32 is below --min-spp 64",
         ),
         (vec!["render", "--spp-map", "m.png"], "--adaptive"),
         (
@@ -1237,7 +1240,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
                 "--adaptive",
                 "0.1",
                 "--max-spp",
-                "64",
+                "256",
             ],
             "--adaptive needs a sampler whose first samples spread",
         ),
@@ -1247,7 +1250,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
                 "--adaptive",
                 "0.1",
                 "--max-spp",
-                "64",
+                "256",
                 "--spp-map",
                 "m.jpg",
             ],
@@ -1259,7 +1262,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
                 "--adaptive",
                 "0.1",
                 "--max-spp",
-                "64",
+                "256",
                 "--spp-map",
                 "o.png",
                 "-o",

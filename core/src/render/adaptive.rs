@@ -1,28 +1,67 @@
-//! Adaptive sampling: a base pass, then batches of samples while a pixel's
-//! estimated relative error exceeds a threshold.
+//! Adaptive sampling that stays unbiased: a pilot decides how many
+//! samples a pixel takes, and no part of the pixel's estimate is weighted
+//! by a decision its own samples made.
 //!
-//! See [`PixelError`] for the estimator.
+//! Stopping a pixel when its own samples look converged is biased: a
+//! pixel whose first samples happen to miss a rare bright path (a
+//! caustic, a light seen through glass) looks converged and stops low,
+//! while one that saw such a path keeps sampling and dilutes it. On the
+//! `caustics` scene that made images 5–10 % too dark.
+//!
+//! Here a pixel's samples come in blocks of `b = min / 4` consecutive
+//! indices. Block 0 is pilot half A, block 1 pilot half B, and the rest
+//! `R` (samples `2b..2b + r`, `r ≥ 2b`) is as long as the whole pilot
+//! asks for. The pixel is
+//!
+//! ```text
+//! value = c_A · mean(A) + c_B · mean(B) + (1 − c_A − c_B) · mean(R)
+//! c_A   = b / (2b + r_B),   c_B = b / (2b + r_A)
+//! ```
+//!
+//! where `r_A` is the rest half A's statistics alone would ask for (and
+//! `r_B` B's). Each part's weight and length depend only on samples
+//! outside it, so each term is unbiased and so is the pixel (exactly for
+//! independent samples; for the Sobol' family the parts are slightly
+//! dependent, and the bias is measured, see the README). Where both
+//! halves agree (`r_A = r_B = r`) every sample weighs the same, as in a
+//! plain mean; where only half A saw a rare bright path, the rest grows
+//! and dilutes it, but A's own weight is set by B, which saw a smooth
+//! pixel: that is the price of unbiasedness, paid only by such pixels.
+//!
+//! How many samples a pixel takes follows the allocation that minimises
+//! the image's squared error for a given number of rays: samples in
+//! proportion to `σ / √c`, the per-sample standard deviation over the
+//! square root of the rays one sample costs. `σ` is measured on the
+//! luminance `Y` and divided by `√Y`, so it is the error a gamma-2
+//! display shows (one threshold serves dim and bright scenes); see
+//! [`PilotStats::samples_wanted`].
 
 use glam::Vec3;
 
-/// Below this mean luminance a pixel's error is measured against the floor
-/// rather than its mean (see [`PixelError`]).
+/// The smallest normalising value of the error: pixels darker than
+/// `ERROR_FLOOR²` in luminance are measured as if they had that
+/// luminance (see [`PilotStats::samples_wanted`]).
 pub const ERROR_FLOOR: f64 = 0.05;
 
-/// How adaptive sampling proceeds: `base` samples every pixel, then
-/// batches of `base` more while the pixel's relative error exceeds
-/// `threshold`, up to `max` samples.
+/// How adaptive sampling proceeds (see the [module](self)): blocks of
+/// `min / 4` samples, the pilot's two blocks, then a rest of at least two
+/// blocks as the pilot asks, for `min..=max` samples a pixel;
+/// `threshold` sets how many (a pixel asks for `σ / (N · threshold ·
+/// √c)` samples, see [`PilotStats::samples_wanted`]).
 ///
 /// ```
 /// use strata::render::Adaptive;
-/// let a = Adaptive::new(16, 256, 0.05).unwrap();
-/// assert_eq!((a.base(), a.max(), a.threshold()), (16, 256, 0.05));
-/// assert!(Adaptive::new(16, 8, 0.05).is_err()); // max below the base
-/// assert!(Adaptive::new(16, 256, f32::NAN).is_err());
+/// let a = Adaptive::new(32, 1024, 0.02).unwrap();
+/// assert_eq!((a.min(), a.max(), a.threshold()), (32, 1024, 0.02));
+/// assert_eq!(a.block(), 8);
+/// assert_eq!(a.rest_range(), 16..=1008);
+/// assert!(Adaptive::new(30, 1024, 0.02).is_err()); // four blocks need a multiple of 4
+/// assert!(Adaptive::new(32, 16, 0.02).is_err()); // max below the minimum
+/// assert!(Adaptive::new(32, 1024, f32::NAN).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adaptive {
-    base: u32,
+    min: u32,
     max: u32,
     threshold: f32,
 }
@@ -30,9 +69,9 @@ pub struct Adaptive {
 /// Why an [`Adaptive`] was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AdaptiveError {
-    /// The base count is 0.
-    Base,
-    /// The maximum is below the base count.
+    /// The minimum is 0 or not a multiple of 4 (it is four blocks).
+    Min,
+    /// The maximum is below the minimum.
     Max,
     /// The threshold is not positive and finite.
     Threshold,
@@ -42,8 +81,10 @@ impl core::fmt::Display for AdaptiveError {
     #[inline]
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
-            AdaptiveError::Base => "the adaptive base sample count is 0",
-            AdaptiveError::Max => "the adaptive maximum is below the base sample count",
+            AdaptiveError::Min => {
+                "the adaptive minimum must be a positive multiple of 4 (four blocks of min/4 samples)"
+            }
+            AdaptiveError::Max => "the adaptive maximum is below the minimum",
             AdaptiveError::Threshold => "the adaptive threshold is not positive and finite",
         })
     }
@@ -51,32 +92,57 @@ impl core::fmt::Display for AdaptiveError {
 
 impl core::error::Error for AdaptiveError {}
 
-impl Adaptive {
-    /// `base ≥ 1` samples first (and per batch), at most `max ≥ base`, while
-    /// the relative error exceeds `threshold`, positive and finite.
+// The threshold is never NaN (`new` refuses it), so equality is total.
+impl Eq for Adaptive {}
+
+impl core::fmt::Display for Adaptive {
     #[inline]
-    pub fn new(base: u32, max: u32, threshold: f32) -> Result<Self, AdaptiveError> {
-        if base == 0 {
-            return Err(AdaptiveError::Base);
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "adaptive threshold {} min {} max {}",
+            self.threshold, self.min, self.max
+        )
+    }
+}
+
+impl Adaptive {
+    /// The default threshold (`strata render --adaptive`), chosen with
+    /// [`DEFAULT_MIN`](Adaptive::DEFAULT_MIN) by `strata adaptive` on
+    /// `caustics`, `week09` and `cover` (README, "Adaptive sampling").
+    pub const DEFAULT_THRESHOLD: f32 = 0.001;
+    /// The default minimum: four blocks of 32, each a (0, 5, 2)-net of
+    /// the Sobol' family's first two dimensions. A pixel whose bright
+    /// paths are rarer than about one in `min / 2` samples looks smooth
+    /// to the pilot; a smaller minimum misses more of them (measured on
+    /// `caustics`: 64 lost to uniform sampling at equal cost).
+    pub const DEFAULT_MIN: u32 = 128;
+
+    /// At least `min` samples (a positive multiple of 4: four blocks of
+    /// `min / 4`), at most `max ≥ min`, `threshold` positive and finite.
+    #[inline]
+    pub fn new(min: u32, max: u32, threshold: f32) -> Result<Self, AdaptiveError> {
+        if min == 0 || !min.is_multiple_of(4) {
+            return Err(AdaptiveError::Min);
         }
-        if max < base {
+        if max < min {
             return Err(AdaptiveError::Max);
         }
         if !(threshold > 0.0 && threshold.is_finite()) {
             return Err(AdaptiveError::Threshold);
         }
         Ok(Adaptive {
-            base,
+            min,
             max,
             threshold,
         })
     }
 
-    /// Samples of the base pass, and of every batch after it.
+    /// The fewest samples a pixel takes.
     #[inline]
     #[must_use]
-    pub fn base(&self) -> u32 {
-        self.base
+    pub fn min(&self) -> u32 {
+        self.min
     }
 
     /// The most samples a pixel takes.
@@ -86,83 +152,103 @@ impl Adaptive {
         self.max
     }
 
-    /// The relative error at or below which a pixel stops.
+    /// What sets how many samples a pixel takes.
     #[inline]
     #[must_use]
     pub fn threshold(&self) -> f32 {
         self.threshold
     }
 
-    /// Whether a pixel that has taken `taken` samples (kept or dropped)
-    /// with error statistics `error` takes another batch.
+    /// Samples per block: `min / 4`. Block 0 is pilot half A (indices
+    /// `0..b`), block 1 half B (`b..2b`); the rest starts at `2b`.
+    #[inline]
+    #[must_use]
+    pub fn block(&self) -> u32 {
+        self.min / 4
+    }
+
+    /// The lengths the rest can take: whole blocks from two to as many
+    /// as fit in `max` after the pilot.
+    #[inline]
+    #[must_use]
+    pub fn rest_range(&self) -> core::ops::RangeInclusive<u32> {
+        let b = self.block();
+        2 * b..=(self.max - 2 * b) / b * b
+    }
+
+    /// The rest the statistics `stats` ask for: `samples_wanted` less
+    /// the pilot's `2b`, rounded up to whole blocks, within
+    /// [`rest_range`](Adaptive::rest_range).
     ///
     /// ```
     /// use glam::Vec3;
-    /// use strata::render::{Adaptive, PixelError};
-    /// let a = Adaptive::new(4, 16, 0.05).unwrap();
-    /// let mut flat = PixelError::ZERO;
-    /// let mut noisy = PixelError::ZERO;
+    /// use strata::render::{Adaptive, PilotStats};
+    /// let a = Adaptive::new(16, 256, 0.005).unwrap();
+    /// let (mut flat, mut noisy) = (PilotStats::ZERO, PilotStats::ZERO);
     /// for i in 0..4 {
-    ///     flat.add(Vec3::splat(0.5), 1.0);
-    ///     noisy.add(Vec3::splat((i % 2) as f32), 1.0);
+    ///     flat.add(Vec3::splat(0.5), 1.0, 2);
+    ///     noisy.add(Vec3::splat((i % 2) as f32), 1.0, 2);
     /// }
-    /// assert!(!a.wants_more(4, &flat)); // no variance: stops at the base
-    /// assert!(a.wants_more(4, &noisy));
-    /// assert!(!a.wants_more(16, &noisy)); // at the maximum
+    /// assert_eq!(a.rest_for(&flat), 8); // no variance: the shortest rest
+    /// assert!(a.rest_for(&noisy) > 8);
+    /// assert!(a.rest_for(&noisy) <= 248);
     /// ```
     #[inline]
     #[must_use]
-    pub fn wants_more(&self, taken: u32, error: &PixelError) -> bool {
-        taken < self.max && error.relative_error() > self.threshold as f64
+    pub fn rest_for(&self, stats: &PilotStats) -> u32 {
+        let (b, range) = (self.block() as f64, self.rest_range());
+        let (lo, hi) = (*range.start(), *range.end());
+        let want = (stats.samples_wanted(self.threshold) - 2.0 * b) / b;
+        // ∞, NaN (from overflowing sums) and huge values take the most.
+        if want.is_nan() || want >= (hi / self.block()) as f64 {
+            hi
+        } else {
+            (libm::ceil(want.max(0.0)) as u32 * self.block()).clamp(lo, hi)
+        }
     }
 
-    /// The sample indices of the batch after `taken` samples.
+    /// The weights of pilot halves A and B, from the rests `rest_a` and
+    /// `rest_b` that each half's statistics ask for: `b / (2b + rest_b)`
+    /// and `b / (2b + rest_a)` (each set by the *other* half).
     #[inline]
     #[must_use]
-    pub fn next_batch(&self, taken: u32) -> core::ops::Range<u32> {
-        taken..taken.saturating_add(self.base).min(self.max)
+    pub fn pilot_weights(&self, rest_a: u32, rest_b: u32) -> [f64; 2] {
+        let b = self.block() as f64;
+        [b / (2.0 * b + rest_b as f64), b / (2.0 * b + rest_a as f64)]
+    }
+
+    /// Whether a pixel can hold `taken` samples after an adaptive render:
+    /// the pilot's `2b` and a rest in [`rest_range`](Adaptive::rest_range).
+    #[inline]
+    #[must_use]
+    pub fn can_take(&self, taken: u32) -> bool {
+        let b = self.block();
+        taken
+            .checked_sub(2 * b)
+            .is_some_and(|r| r.is_multiple_of(b) && self.rest_range().contains(&r))
     }
 }
 
-/// The running sums behind a pixel's error estimate.
+/// The running sums of a pilot (or one half of it): what
+/// [`Adaptive::rest_for`] decides the rest from.
 ///
-/// Over the `n` finite samples a pixel has taken so far, with `wᵢ` the
-/// filter weight and `yᵢ` the Rec. 709 luminance `0.2126 r + 0.7152 g +
-/// 0.0722 b` of sample `i`'s radiance, computed in `f64`:
+/// Over the `n` finite samples added, with `wᵢ` the filter weight, `yᵢ`
+/// the Rec. 709 luminance `0.2126 r + 0.7152 g + 0.0722 b` of the
+/// radiance (in `f64`) and `cᵢ` the rays the sample traced:
 ///
 /// ```text
-/// value  R  = Σ wᵢyᵢ / Σ wᵢ                            the film's value
-/// error  e  = sqrt(n Σ (wᵢ(yᵢ − R))² / (n − 1)) / |Σ wᵢ| / max(|R|, ERROR_FLOOR)
+/// value  R = Σ wᵢyᵢ / Σ wᵢ                                   the film's value
+/// σ      = n · sqrt(Σ (wᵢ(yᵢ − R))² / (n − 1)) / |Σ wᵢ|       one sample's deviation
+/// c      = Σ cᵢ / n                                         rays per sample
 /// ```
 ///
-/// With weights of 1 this is `sqrt(s² / n) / max(|m|, ERROR_FLOOR)`, the
-/// standard error of the mean over the mean, `s²` the unbiased sample
-/// variance. Where the film falls back to the plain mean of `w·y`
-/// (`|Σ w| < n/4`), the error is that mean's standard error.
-///
-/// `e` is the standard error of the pixel's mean relative to the mean, so
-/// a threshold of 0.05 asks for a 1-σ error of 5 %. Pixels darker than
-/// [`ERROR_FLOOR`] are held to the absolute error `threshold ×
-/// ERROR_FLOOR` instead: a relative error of a near-black pixel is
-/// unbounded and invisible once displayed. With fewer than two finite
-/// samples the error is unknown and counts as infinite, so such a pixel
-/// keeps sampling.
-///
-/// The sums run in sample-index order over the pixel's own samples and
-/// nothing else, so the decision, and so the pixel, is the same for any
-/// thread count, tile or pixel window. (It is not the same for any split
-/// of the samples: the stopping point needs all earlier samples of the
-/// pixel, which is why a run of samples `A..B` cannot be adaptive.)
-///
-/// Stopping on a noisy estimate is slightly biased: samples that happen
-/// to be bright make a smaller relative error and stop sooner, and a pixel
-/// whose first samples agree (all on one checker cell of an edge pixel)
-/// stops at once. Measured in the suite: +0.4 % of the mean luminance on
-/// `week09` with a base of 16, far below each pixel's noise. Use a base
-/// of 16 samples or more: the bias grows as the base shrinks.
+/// With weights of 1, `σ` is the sample standard deviation. Where the
+/// film falls back to the plain mean of `w·y` (`|Σ w| < n/4`), `σ` is
+/// that mean's per-sample deviation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PixelError {
+pub struct PilotStats {
     n: u32,
+    rays: u64,
     /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y².
     w: f64,
     wy: f64,
@@ -171,10 +257,11 @@ pub struct PixelError {
     w2y2: f64,
 }
 
-impl PixelError {
+impl PilotStats {
     /// No samples.
-    pub const ZERO: PixelError = PixelError {
+    pub const ZERO: PilotStats = PilotStats {
         n: 0,
+        rays: 0,
         w: 0.0,
         wy: 0.0,
         w2: 0.0,
@@ -182,21 +269,35 @@ impl PixelError {
         w2y2: 0.0,
     };
 
-    /// Adds a sample: radiance `l` with filter weight `w`. A sample the
-    /// film drops (`w·l` or `w` not finite) is ignored here too.
+    /// Adds a sample: radiance `l` with filter weight `w`, which traced
+    /// `rays` rays. A sample the film drops (`w·l` or `w` not finite) is
+    /// ignored here too, its rays included.
     #[inline]
-    pub fn add(&mut self, l: Vec3, w: f32) {
+    pub fn add(&mut self, l: Vec3, w: f32, rays: u32) {
         if !((l * w).is_finite() && w.is_finite()) {
             return;
         }
         let y = 0.2126 * l.x as f64 + 0.7152 * l.y as f64 + 0.0722 * l.z as f64;
         let w = w as f64;
         self.n = self.n.saturating_add(1);
+        self.rays = self.rays.saturating_add(rays as u64);
         self.w += w;
         self.wy += w * y;
         self.w2 += w * w;
         self.w2y += w * w * y;
         self.w2y2 += w * w * y * y;
+    }
+
+    /// Adds another's sums: the statistics of both sets of samples.
+    #[inline]
+    pub fn merge(&mut self, o: &PilotStats) {
+        self.n = self.n.saturating_add(o.n);
+        self.rays = self.rays.saturating_add(o.rays);
+        self.w += o.w;
+        self.wy += o.wy;
+        self.w2 += o.w2;
+        self.w2y += o.w2y;
+        self.w2y2 += o.w2y2;
     }
 
     /// Finite samples added.
@@ -206,48 +307,140 @@ impl PixelError {
         self.n
     }
 
-    /// The relative standard error of the pixel's luminance as the film
-    /// computes it ([`PixelSum::mean`](super::PixelSum::mean)); infinite
-    /// with fewer than two samples.
-    ///
-    /// With the ratio `R = Σ w·y / Σ w`, its standard error is, by the
-    /// delta method, `√(n · Σ (wᵢ (yᵢ − R))² / (n − 1)) / |Σ w|`; with
-    /// weights of 1 that is the familiar `√(s² / n)`. Where the film falls
-    /// back to the plain mean of `w·y` (`|Σ w| < n/4`), so does this.
-    ///
-    /// ```
-    /// use glam::Vec3;
-    /// use strata::render::PixelError;
-    /// let mut e = PixelError::ZERO;
-    /// for v in [1.0f32, 3.0] {
-    ///     e.add(Vec3::splat(v), 1.0);
-    /// }
-    /// // mean 2, variance 2, standard error 1: 50 %.
-    /// assert!((e.relative_error() - 0.5).abs() < 1e-12);
-    /// // A flat region under weights of both signs has no error.
-    /// let mut flat = PixelError::ZERO;
-    /// for w in [1.3f32, -0.4, 1.1, 0.9] {
-    ///     flat.add(Vec3::splat(0.5), w);
-    /// }
-    /// assert!(flat.relative_error() < 1e-12);
-    /// ```
+    /// The value `R` and one sample's standard deviation `σ` (see the
+    /// type); `None` with fewer than two samples.
     #[inline]
     #[must_use]
-    pub fn relative_error(&self) -> f64 {
+    pub fn value_and_deviation(&self) -> Option<(f64, f64)> {
         if self.n < 2 {
-            return f64::INFINITY;
+            return None;
         }
         let n = self.n as f64;
-        let (value, se) = if libm::fabs(self.w) >= 0.25 * n {
+        Some(if libm::fabs(self.w) >= 0.25 * n {
             let r = self.wy / self.w;
             let s = (self.w2y2 - 2.0 * r * self.w2y + r * r * self.w2).max(0.0);
-            (r, libm::sqrt(n * s / (n - 1.0)) / libm::fabs(self.w))
+            (r, n * libm::sqrt(s / (n - 1.0)) / libm::fabs(self.w))
         } else {
             // The plain mean of v = w·y: Σ v = wy, Σ v² = w2y2.
             let m = self.wy / n;
             let var = ((self.w2y2 - m * self.wy) / (n - 1.0)).max(0.0);
-            (m, libm::sqrt(var / n))
+            (m, libm::sqrt(var))
+        })
+    }
+
+    /// The samples a pixel with these statistics asks for at `threshold`:
+    /// `σ / (N · threshold · √c)`, with `N = max(√|R|, ERROR_FLOOR)`.
+    /// Infinite with fewer than two samples; 0 without variance.
+    ///
+    /// Why this form: for a budget of rays, the squared error summed over
+    /// pixels is least when pixel `i` takes samples in proportion to
+    /// `σᵢ / √cᵢ` (minimise `Σ σᵢ²/nᵢ` subject to `Σ cᵢ nᵢ = C`);
+    /// `threshold` sets the proportion. Dividing by `√R` measures the
+    /// error as a gamma-2 display shows it (`d√Y = dY / 2√Y`), so one
+    /// threshold serves dim and bright scenes; Cycles' convergence test
+    /// normalises the same way below 1. (Measured: Cycles' switch to `R`
+    /// above 1, and no normalisation, did no better on `caustics`.)
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PilotStats;
+    /// let mut h = PilotStats::ZERO;
+    /// for v in [0.0f32, 2.0] {
+    ///     h.add(Vec3::splat(v), 1.0, 4); // mean 1, σ √2, 4 rays a sample
+    /// }
+    /// let want = 2f64.sqrt() / (0.5 * 2.0);
+    /// assert!((h.samples_wanted(0.5) - want).abs() < 1e-12);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn samples_wanted(&self, threshold: f32) -> f64 {
+        let Some((r, sigma)) = self.value_and_deviation() else {
+            return f64::INFINITY;
         };
-        se / libm::fabs(value).max(ERROR_FLOOR)
+        let r = libm::fabs(r);
+        let norm = libm::sqrt(r).max(ERROR_FLOOR);
+        let c = (self.rays as f64 / self.n as f64).max(1.0);
+        sigma / (norm * threshold as f64 * libm::sqrt(c))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stats(values: &[f32], rays: u32) -> PilotStats {
+        let mut s = PilotStats::ZERO;
+        for &v in values {
+            s.add(Vec3::splat(v), 1.0, rays);
+        }
+        s
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        assert_eq!(Adaptive::new(0, 8, 0.1), Err(AdaptiveError::Min));
+        assert_eq!(Adaptive::new(6, 8, 0.1), Err(AdaptiveError::Min));
+        assert_eq!(Adaptive::new(8, 4, 0.1), Err(AdaptiveError::Max));
+        for t in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+            assert_eq!(Adaptive::new(8, 8, t), Err(AdaptiveError::Threshold));
+        }
+        let d = Adaptive::new(Adaptive::DEFAULT_MIN, 1024, Adaptive::DEFAULT_THRESHOLD).unwrap();
+        assert_eq!(d.block(), 32);
+    }
+
+    #[test]
+    fn rests_stay_in_range_and_every_count_they_give_is_possible() {
+        for (min, max) in [(4, 4), (4, 5), (8, 24), (16, 1000), (128, 1024)] {
+            let a = Adaptive::new(min, max, 0.01).unwrap();
+            let range = a.rest_range();
+            assert!(2 * a.block() + range.end() <= max, "{min} {max}");
+            assert!(range.end().is_multiple_of(a.block()));
+            let cases = [
+                PilotStats::ZERO,                  // no samples: ∞
+                stats(&[0.5], 1),                  // one sample: ∞
+                stats(&[0.5, 0.5, 0.5], 3),        // no variance: 0
+                stats(&[0.0, 1.0, 0.0, 1.0], 2),   // noisy
+                stats(&[0.0, 3e38, 0.0, 3e38], 2), // overflowing sums
+                stats(&[1e-30, 2e-30], 9),         // below the floor
+            ];
+            for c in &cases {
+                let r = a.rest_for(c);
+                assert!(range.contains(&r), "{min} {max}: {r} for {c:?}");
+                assert!(a.can_take(2 * a.block() + r));
+            }
+            assert_eq!(a.rest_for(&PilotStats::ZERO), *range.end());
+            assert_eq!(a.rest_for(&cases[2]), *range.start());
+            assert_eq!(a.rest_for(&cases[4]), *range.end());
+            assert!(!a.can_take(min - 1) && !a.can_take(max + 1));
+        }
+    }
+
+    #[test]
+    fn a_smaller_threshold_asks_for_more_and_costlier_samples_for_fewer() {
+        let noisy = stats(&[0.1, 0.9, 0.3, 0.6, 0.0, 1.0], 2);
+        let costly = stats(&[0.1, 0.9, 0.3, 0.6, 0.0, 1.0], 8);
+        let (a, b) = (noisy.samples_wanted(0.01), noisy.samples_wanted(0.001));
+        assert!((b / a - 10.0).abs() < 1e-5, "{a} {b}"); // f32 thresholds
+        // Four times the rays: half the samples (σ/√c).
+        assert!((costly.samples_wanted(0.01) * 2.0 - a).abs() < 1e-9);
+        let (lo, hi) = (
+            Adaptive::new(16, 4096, 0.01).unwrap(),
+            Adaptive::new(16, 4096, 0.001).unwrap(),
+        );
+        assert!(hi.rest_for(&noisy) > lo.rest_for(&noisy));
+    }
+
+    #[test]
+    fn pilot_weights_are_the_fair_share_where_the_halves_agree() {
+        let a = Adaptive::new(16, 1024, 0.01).unwrap();
+        for rest in [8, 40, 1008] {
+            let [ca, cb] = a.pilot_weights(rest, rest);
+            let share = 4.0 / (8.0 + rest as f64);
+            assert!((ca - share).abs() < 1e-15 && (cb - share).abs() < 1e-15);
+        }
+        // Each half's weight comes from the other half's rest.
+        let [ca, cb] = a.pilot_weights(1008, 8);
+        assert_eq!((ca, cb), (4.0 / 16.0, 4.0 / 1016.0));
+        assert!(ca + cb < 1.0);
     }
 }

@@ -165,6 +165,59 @@ impl PixelSum {
         self.samples.saturating_add(self.dropped)
     }
 
+    /// One accumulator whose [`mean`](PixelSum::mean) is `Σ cₖ ·
+    /// mean(partₖ)` over the parts with samples (the weights `cₖ`
+    /// renormalised over those), and which counts every part's samples:
+    /// how an adaptive pixel ([`Adaptive`](super::Adaptive)) joins its
+    /// pilot and its rest. Its weight is `2²⁴·n` for the `n` kept samples,
+    /// its sums the blend's times that, rounded; a pure function of the
+    /// parts in `f64`, so the same on every CPU. With no kept sample it
+    /// is [`PixelSum::ZERO`] with the dropped count.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let (mut a, mut b) = (PixelSum::ZERO, PixelSum::ZERO);
+    /// a.add_sample(Vec3::splat(1.0));
+    /// for _ in 0..3 {
+    ///     b.add_sample(Vec3::splat(3.0));
+    /// }
+    /// let j = PixelSum::blend(&[(a, 0.25), (b, 0.75)]);
+    /// assert_eq!((j.samples, j.taken()), (4, 4));
+    /// assert!((j.mean() - Vec3::splat(2.5)).abs().max_element() < 1e-6);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn blend(parts: &[(PixelSum, f64)]) -> PixelSum {
+        let mut out = PixelSum::ZERO;
+        let mut total = 0.0;
+        for (p, c) in parts {
+            out.samples = out.samples.saturating_add(p.samples);
+            out.dropped = out.dropped.saturating_add(p.dropped);
+            if p.samples > 0 {
+                total += c;
+            }
+        }
+        if out.samples == 0 || total <= 0.0 {
+            out.samples = 0;
+            out.dropped = parts
+                .iter()
+                .fold(0u32, |d, (p, _)| d.saturating_add(p.taken()));
+            return out;
+        }
+        let weight = FILM_SCALE as f64 * out.samples as f64;
+        for ch in 0..3 {
+            let mut m = 0.0;
+            for (p, c) in parts.iter().filter(|(p, _)| p.samples > 0) {
+                m += c / total * (p.sum[ch] as f64 / p.denominator());
+            }
+            // `as` saturates, like every sum of the film.
+            out.sum[ch] = libm::round(m * weight) as i64;
+        }
+        out.weight = weight as i64;
+        out
+    }
+
     /// The pixel's value as linear RGB: the weighted mean `Σ w·L / Σ w` of
     /// the `n` kept samples (black with none). With weights of 1 it is the
     /// plain mean; in a flat region it is exact whatever the weights.
@@ -211,5 +264,30 @@ mod tests {
         assert_eq!(to_fixed(-1e30), -to_fixed(MAX_SAMPLE_VALUE));
         // Half a film unit rounds away from zero.
         assert_eq!(to_fixed(0.5 / FILM_SCALE), 1);
+    }
+
+    #[test]
+    fn blend_renormalises_over_parts_with_samples() {
+        let mut a = PixelSum::ZERO;
+        a.add_sample(Vec3::splat(2.0));
+        let mut dropped = PixelSum::ZERO;
+        dropped.add_sample(Vec3::splat(f32::NAN));
+        // A part with no kept sample gives its weight to the others.
+        let j = PixelSum::blend(&[(a, 0.2), (dropped, 0.8)]);
+        assert_eq!((j.samples, j.dropped), (1, 1));
+        assert_eq!(j.mean(), Vec3::splat(2.0));
+        // None kept: zero, with every sample counted as dropped.
+        let none = PixelSum::blend(&[(dropped, 0.5), (dropped, 0.5)]);
+        assert_eq!(
+            (none.samples, none.dropped, none.mean()),
+            (0, 2, Vec3::ZERO)
+        );
+        assert_eq!(PixelSum::blend(&[]), PixelSum::ZERO);
+        // Weighted parts keep their own means: a filter's Σ w·L / Σ w.
+        let mut w = PixelSum::ZERO;
+        w.add_weighted(Vec3::splat(1.0), 0.5);
+        w.add_weighted(Vec3::splat(3.0), 1.5);
+        let j = PixelSum::blend(&[(w, 0.5), (a, 0.5)]);
+        assert!((j.mean() - Vec3::splat(2.25)).abs().max_element() < 1e-6);
     }
 }

@@ -5,7 +5,7 @@
 //! samples, so tiles, their order and threads never change a bit.
 
 use super::RenderSettings;
-use super::adaptive::{Adaptive, PixelError};
+use super::adaptive::{Adaptive, PilotStats};
 use super::camera::Camera;
 use super::film::PixelSum;
 use super::integrator::{Scratch, camera_ray, differential_spacing, trace_path};
@@ -151,7 +151,7 @@ fn check_tile(
 }
 
 /// Up to 8 neighbouring pixels of a row, traced together: lane `l` is
-/// pixel `first + (l, 0)`, with its sampler and its film entry.
+/// pixel `first + (l, 0)`, with its sampler.
 struct Group<'a, 's, 'k, S> {
     scene: &'a Scene<'s>,
     /// The tile's traversal stack and counts.
@@ -162,16 +162,15 @@ struct Group<'a, 's, 'k, S> {
     /// The differential spacing (0: no texture filtering).
     spacing: f32,
     lanes: &'a mut [S; 8],
-    film: &'a mut [PixelSum],
 }
 
 impl<S: Sampler> Group<'_, '_, '_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
     /// rays as one packet (one by one for two lanes or fewer, where a
-    /// packet costs as much as eight), and adds each value to its pixel and, when
-    /// sampling adaptively, to its error statistics.
+    /// packet costs as much as eight), and gives each lane's value, filter
+    /// weight and rays traced to `sink(lane, value, weight, rays)`.
     #[inline(always)]
-    fn trace(&mut self, ids: &[usize], index: u32, mut errors: Option<&mut [PixelError; 8]>) {
+    fn trace(&mut self, ids: &[usize], index: u32, mut sink: impl FnMut(usize, Vec3, f32, u32)) {
         let (scene, camera, settings) = (self.scene, self.camera, self.settings);
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
         let mut weights = [0.0f32; 8];
@@ -208,6 +207,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
             }
         }
         for (k, &l) in ids.iter().enumerate() {
+            let before = self.scratch.stats.rays + self.scratch.stats.shadow_rays;
             let v = trace_path(
                 scene,
                 self.scratch,
@@ -217,10 +217,8 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
                 first[k],
                 diffs[k],
             );
-            self.film[l].add_weighted(v, weights[k]);
-            if let Some(e) = errors.as_deref_mut() {
-                e[l].add(v, weights[k]);
-            }
+            let rays = self.scratch.stats.rays + self.scratch.stats.shadow_rays - before;
+            sink(l, v, weights[k], rays as u32);
         }
     }
 }
@@ -254,17 +252,17 @@ pub fn render_tile<S: Sampler + Clone>(
         settings,
         tile,
         film,
-        |group, n| {
+        |group, film, n| {
             for index in samples.clone() {
-                group.trace(&ALL[..n], index, None);
+                group.trace(&ALL[..n], index, |l, v, w, _| film[l].add_weighted(v, w));
             }
         },
     ))
 }
 
 /// Calls `f` with each group of up to 8 neighbouring pixels of `tile`,
-/// row by row, and its lane count; each group's film entries are its
-/// slice of `film` (row-major over the tile). Returns what was traced.
+/// row by row, its film entries (its slice of `film`, row-major over the
+/// tile) and its lane count. Returns what was traced.
 #[inline(always)]
 fn for_each_group<S: Sampler + Clone>(
     scene: &Scene<'_>,
@@ -273,7 +271,7 @@ fn for_each_group<S: Sampler + Clone>(
     settings: &RenderSettings,
     tile: Tile,
     film: &mut [PixelSum],
-    mut f: impl FnMut(&mut Group<'_, '_, '_, S>, usize),
+    mut f: impl FnMut(&mut Group<'_, '_, '_, S>, &mut [PixelSum], usize),
 ) -> TileStats {
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     // Zeroed once per tile, not per ray.
@@ -293,9 +291,8 @@ fn for_each_group<S: Sampler + Clone>(
                 first: UVec2::new(tile.x0 + col, tile.y0 + row),
                 spacing,
                 lanes: &mut lanes,
-                film: &mut film[at..at + n],
             };
-            f(&mut group, n);
+            f(&mut group, &mut film[at..at + n], n);
             col += n as u32;
         }
     }
@@ -304,19 +301,18 @@ fn for_each_group<S: Sampler + Clone>(
 
 /// Renders every pixel of `tile` adaptively and adds the samples to
 /// `film` (row-major over the tile; started at [`PixelSum::ZERO`] it
-/// holds each pixel's sample count as `samples + dropped`): samples
-/// `0..base` of each pixel, then batches of `base` more, in index order,
-/// while [`Adaptive::wants_more`] says so (see [`Adaptive`] for the error
-/// estimator). Each pixel equals [`pixel_sample`](super::pixel_sample) over its indices `0..k`
-/// with `k` decided by its own samples alone, so tiles, threads and
-/// windows do not change it.
+/// holds each pixel's sample count as `samples + dropped`), as
+/// [`Adaptive`] describes: the pilot's two blocks, then the rest the
+/// pilot asks for, joined by [`PixelSum::blend`] with weights that never
+/// depend on the samples they weigh. A pixel depends on its own samples
+/// alone, so tiles, threads and windows do not change it.
 ///
 /// `sampler` is the prototype; its pattern must hold every index a pixel
 /// may take (`samples_per_pixel() ≥ adaptive.max()`, else
-/// [`RenderError::SamplerTooSmall`]), and its first samples should spread
-/// over the pixel: [`UniformGrid`](crate::UniformGrid) fills its grid in
-/// raster order, so its base pass covers the pixel's top rows only and
-/// adaptive renders with it are biased.
+/// [`RenderError::SamplerTooSmall`]), and each block should spread over
+/// the pixel: [`UniformGrid`](crate::UniformGrid) fills its grid in
+/// raster order, so its blocks cover a few rows each and adaptive renders
+/// with it are biased.
 ///
 /// ```
 /// use glam::{UVec2, Vec3};
@@ -344,14 +340,14 @@ fn for_each_group<S: Sampler + Clone>(
 /// let camera = Camera::new(&desc, 8, 4).unwrap();
 /// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX,
 ///     texture_filter: TextureFilter::None };
-/// let adaptive = Adaptive::new(4, 64, 0.02).unwrap();
+/// let adaptive = Adaptive::new(8, 64, 0.002).unwrap();
 /// let tile = Tile { x0: 0, y0: 0, width: 8, height: 4 };
 /// let mut film = [PixelSum::ZERO; 32];
 /// let sampler = Independent::new(64, 1).unwrap();
 /// render_tile_adaptive(&scene, &camera, &sampler, &settings, tile, adaptive, &mut film).unwrap();
 /// let taken = |x: usize, y: usize| film[y * 8 + x].samples;
-/// assert!(taken(2, 2) > 4); // on the sphere, lit by the sky and the ground
-/// assert_eq!(taken(7, 0), 4); // the flat sky: no variance, the base only
+/// assert!(taken(2, 2) > 8); // on the sphere, lit by the sky and the ground
+/// assert_eq!(taken(7, 0), 8); // the flat sky: no variance, the pilot only
 /// ```
 #[inline]
 pub fn render_tile_adaptive<S: Sampler + Clone>(
@@ -370,6 +366,7 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
             max: adaptive.max(),
         });
     }
+    let b = adaptive.block();
     Ok(for_each_group(
         scene,
         camera,
@@ -377,29 +374,54 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
         settings,
         tile,
         film,
-        |group, n| {
-            let mut errors = [PixelError::ZERO; 8];
-            // Every active lane has taken the same samples, so one batch
-            // serves them all and their camera rays stay one packet.
-            let mut ids = [0usize, 1, 2, 3, 4, 5, 6, 7];
-            let mut active = n;
-            let mut taken = 0;
-            loop {
-                for index in adaptive.next_batch(taken) {
-                    group.trace(&ids[..active], index, Some(&mut errors));
-                }
-                taken = adaptive.next_batch(taken).end;
+        |group, film, n| {
+            // Each lane's pilot halves and rest, and the halves' statistics.
+            let mut parts = [[PixelSum::ZERO; 3]; 8];
+            let mut pilots = [[PilotStats::ZERO; 2]; 8];
+            let all = [0usize, 1, 2, 3, 4, 5, 6, 7];
+            for index in 0..2 * b {
+                let h = (index / b) as usize;
+                group.trace(&all[..n], index, |l, v, w, rays| {
+                    parts[l][h].add_weighted(v, w);
+                    pilots[l][h].add(v, w, rays);
+                });
+            }
+            let mut rests = [0u32; 8];
+            let mut weights = [[0.0f64; 3]; 8];
+            for l in 0..n {
+                let [a, bh] = pilots[l];
+                let mut both = a;
+                both.merge(&bh);
+                rests[l] = adaptive.rest_for(&both);
+                let [ca, cb] =
+                    adaptive.pilot_weights(adaptive.rest_for(&a), adaptive.rest_for(&bh));
+                weights[l] = [ca, cb, 1.0 - ca - cb];
+            }
+            // The rest in index order; the lanes still sampling trace each
+            // index together, so their camera rays stay one packet.
+            let longest = rests[..n].iter().max().copied().unwrap_or(0);
+            let mut ids = all;
+            let mut m = n;
+            for index in 2 * b..2 * b + longest {
                 let mut kept = 0;
-                for k in 0..active {
-                    if adaptive.wants_more(taken, &errors[ids[k]]) {
+                for k in 0..m {
+                    if index - 2 * b < rests[ids[k]] {
                         ids[kept] = ids[k];
                         kept += 1;
                     }
                 }
-                active = kept;
-                if active == 0 {
-                    break;
-                }
+                m = kept;
+                group.trace(&ids[..m], index, |l, v, w, _| {
+                    parts[l][2].add_weighted(v, w)
+                });
+            }
+            for l in 0..n {
+                let blended = PixelSum::blend(&[
+                    (parts[l][0], weights[l][0]),
+                    (parts[l][1], weights[l][1]),
+                    (parts[l][2], weights[l][2]),
+                ]);
+                film[l].merge(&blended);
             }
         },
     ))

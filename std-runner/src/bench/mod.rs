@@ -24,7 +24,7 @@
 //! the per-repetition ratios, so both sides of a ratio share a repetition's
 //! machine state.
 
-mod harness;
+pub(crate) mod harness;
 mod suite;
 
 pub use harness::{

@@ -4,6 +4,7 @@
 //! several commands share: naming a scene, the image height and size it
 //! implies, pixel windows, output names, sampler lists, progress bars.
 
+pub mod adaptive;
 pub mod aliasing;
 pub mod bench;
 pub mod converge;
@@ -37,6 +38,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Render(args)) => render::render(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Converge(args)) => converge::converge(&args),
+        Some(Command::Adaptive(args)) => adaptive::adaptive(&args),
         Some(Command::Aliasing(args)) => aliasing::aliasing(&args),
         Some(Command::Spectrum(args)) => spectrum::spectrum(&args),
         Some(Command::Merge(args)) => merge::merge(&args),

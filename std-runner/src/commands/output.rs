@@ -51,7 +51,7 @@ pub(crate) struct SppMap {
 impl SppMap {
     /// Draws the spp map of `film`.
     pub(crate) fn draw(film: &Film) -> Result<Self> {
-        let base = film.key.adaptive_base().unwrap_or(film.key.spp());
+        let base = film.key.adaptive().map_or(film.key.spp(), |a| a.min());
         let (w, h) = (film.window.width, film.window.height);
         let (rgb, width, height) = spp_map_with_legend(&film.pixels, w, h, base, film.key.spp())?;
         let mut meta = film.metadata(Transfer::Srgb);

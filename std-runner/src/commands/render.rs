@@ -120,15 +120,16 @@ impl RenderArgs {
     /// the scene's), or with `--adaptive` up to `--max-spp`, as the
     /// pattern then holds every sample a pixel may take.
     fn sample_counts(&self, scene_spp: u32) -> Result<(u32, Option<Adaptive>)> {
-        let base = self.spp.unwrap_or(scene_spp);
-        let (Some(t), Some(max)) = (self.adaptive, self.max_spp) else {
-            return Ok((base, None));
+        let Some(t) = self.adaptive else {
+            return Ok((self.spp.unwrap_or(scene_spp), None));
         };
-        let adaptive = Adaptive::new(base, max, t).map_err(|e| match e {
-            AdaptiveError::Max => {
-                anyhow!("--max-spp {max} is below the base count {base} (--spp or the scene's)")
+        let (min, max) = (self.min_spp, self.max_spp);
+        let adaptive = Adaptive::new(min, max, t).map_err(|e| match e {
+            AdaptiveError::Max => anyhow!("--max-spp {max} is below --min-spp {min}"),
+            AdaptiveError::Min => {
+                anyhow!("--min-spp {min} must be a multiple of 4 (four blocks of {min}/4 samples)")
             }
-            e => anyhow!("--adaptive {t} --max-spp {max}: {e}"),
+            e => anyhow!("--adaptive {t}: {e}"),
         })?;
         if self.sampler == SamplerKind::Grid {
             bail!(
@@ -195,7 +196,7 @@ impl RenderPlan<'_> {
             None => format!("{} spp", job.spp),
             Some(a) => format!(
                 "adaptive {}..{} spp at {} ({})",
-                a.base(),
+                a.min(),
                 a.max(),
                 a.threshold(),
                 spp_summary(film)

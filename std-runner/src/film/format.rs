@@ -163,7 +163,7 @@ impl Film {
             width,
             height,
             spp,
-            adaptive_base: adaptive.map(|a| a.base()),
+            adaptive,
         };
         check_counts(&key, &samples, &pixels)?;
         Ok(Film {
@@ -183,8 +183,8 @@ impl Film {
 }
 
 /// Every pixel took every sample of the range, kept or dropped; an
-/// adaptive pixel (whose range is all of `0..spp`) took a whole number of
-/// base-sized batches, or the maximum. A merge checks the same of films
+/// adaptive pixel (whose range is all of `0..spp`) took a count its
+/// settings allow ([`Adaptive::can_take`](strata::render::Adaptive::can_take)). A merge checks the same of films
 /// built in code.
 pub(super) fn check_counts(
     key: &RenderKey,
@@ -192,7 +192,7 @@ pub(super) fn check_counts(
     pixels: &[PixelSum],
 ) -> Result<()> {
     let n = samples.end - samples.start;
-    if key.adaptive_base.is_some() && *samples != (0..key.spp) {
+    if key.adaptive.is_some() && *samples != (0..key.spp) {
         bail!(
             "an adaptive film must cover samples 0..{}, not {}..{}",
             key.spp,
@@ -200,14 +200,20 @@ pub(super) fn check_counts(
             samples.end
         );
     }
-    let possible = |t: u32| match key.adaptive_base {
+    let possible = |t: u32| match key.adaptive {
         None => t == n,
-        Some(base) => t == n || (t >= base && t < n && t.is_multiple_of(base)),
+        Some(a) => a.can_take(t),
     };
     if let Some(at) = pixels.iter().position(|p| !possible(p.taken())) {
-        let want = match key.adaptive_base {
+        let want = match key.adaptive {
             None => n.to_string(),
-            Some(base) => format!("a multiple of {base} up to {n}"),
+            Some(a) => {
+                let most = 2 * a.block() + a.rest_range().end();
+                match a.block() {
+                    1 => format!("from {} to {most}", a.min()),
+                    b => format!("a multiple of {b} from {} to {most}", a.min()),
+                }
+            }
         };
         bail!(
             "pixel {at} of the window holds {} samples where the range {}..{} has {want}",

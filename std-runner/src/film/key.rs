@@ -18,8 +18,8 @@ pub struct RenderKey {
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) spp: u32,
-    /// The base sample count of an adaptive render.
-    pub(super) adaptive_base: Option<u32>,
+    /// The adaptive settings of an adaptive render.
+    pub(super) adaptive: Option<strata::render::Adaptive>,
 }
 
 /// The field names of a [`RenderKey`], in file order.
@@ -82,7 +82,7 @@ impl RenderKey {
             width: job.width,
             height: job.height,
             spp: job.spp,
-            adaptive_base: job.adaptive.map(|a| a.base()),
+            adaptive: job.adaptive,
         }
     }
 
@@ -104,11 +104,11 @@ impl RenderKey {
         self.spp
     }
 
-    /// The base sample count if the render is adaptive: each pixel then
-    /// holds between it and [`RenderKey::spp`] samples.
+    /// The adaptive settings if the render is adaptive: each pixel then
+    /// holds between their minimum and [`RenderKey::spp`] samples.
     #[must_use]
-    pub fn adaptive_base(&self) -> Option<u32> {
-        self.adaptive_base
+    pub fn adaptive(&self) -> Option<strata::render::Adaptive> {
+        self.adaptive
     }
 
     /// The fields as (name, value), in file order.
@@ -164,15 +164,15 @@ pub fn filter_text(f: &strata::render::PixelFilter) -> String {
     }
 }
 
-/// Adaptive sampling as text: `off`, or `threshold=T base=B max=M`.
+/// Adaptive sampling as text: `off`, or `threshold=T min=N max=M`.
 #[must_use]
 pub fn adaptive_text(a: Option<strata::render::Adaptive>) -> String {
     match a {
         None => "off".to_string(),
         Some(a) => format!(
-            "threshold={:?} base={} max={}",
+            "threshold={:?} min={} max={}",
             a.threshold(),
-            a.base(),
+            a.min(),
             a.max()
         ),
     }
@@ -186,7 +186,7 @@ pub(super) fn parse_adaptive(s: &str) -> Option<Option<strata::render::Adaptive>
     let v: Vec<&str> = s.split(' ').collect();
     let [t, b, m] = v[..] else { return None };
     let t: f32 = t.strip_prefix("threshold=")?.parse().ok()?;
-    let b: u32 = b.strip_prefix("base=")?.parse().ok()?;
+    let b: u32 = b.strip_prefix("min=")?.parse().ok()?;
     let m: u32 = m.strip_prefix("max=")?.parse().ok()?;
     strata::render::Adaptive::new(b, m, t).ok().map(Some)
 }

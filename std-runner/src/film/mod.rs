@@ -24,9 +24,9 @@
 //!       i64 (units of 2^-24), samples u32, dropped u32.
 //! ```
 //!
-//! An adaptive render (`adaptive=threshold=T base=B max=M`, with `spp` =
-//! M) covers samples `0..M` of its window: each pixel holds the `B..=M`
-//! samples its error asked for. Adaptive parts split the pixels only,
+//! An adaptive render (`adaptive=threshold=T min=N max=M`, with `spp` =
+//! M) covers samples `0..M` of its window: each pixel holds the `N..=M`
+//! samples its halves asked for (whole blocks of N/2). Adaptive parts split the pixels only,
 //! never the samples.
 
 //!

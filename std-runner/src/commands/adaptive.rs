@@ -1,0 +1,73 @@
+//! `strata adaptive`: adaptive sampling against uniform sampling at equal
+//! cost (see [`crate::study::adaptive`]).
+
+use anyhow::{Result, anyhow, bail};
+use strata::render::{Adaptive, TextureFilter, Tile};
+
+use crate::cli::AdaptiveArgs;
+use crate::commands::output::write_text;
+use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene, window_of};
+use crate::image_io::say;
+use crate::render::SamplerKind;
+use crate::study::{self, View};
+
+/// Runs `strata adaptive`: every flag checked, then the study, its table
+/// and, if asked for, its CSV.
+pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
+    let scene = resolve_scene(&args.scene)?;
+    let width = args.width.unwrap_or(scene.defaults.width);
+    let height = height_for(&scene, width, None)?;
+    check_pixels(width, height, 1)?;
+    let window = match args.pixel_bounds {
+        Some(b) => window_of(b, width, height)?,
+        None => Tile::whole(width, height),
+    };
+    if args.sampler == SamplerKind::Grid {
+        bail!(
+            "adaptive sampling needs a sampler whose first samples spread over the pixel; \
+             the grid fills its rows in order"
+        );
+    }
+    let adaptive = Adaptive::new(
+        args.min_spp.unwrap_or(Adaptive::DEFAULT_MIN),
+        args.max_spp,
+        args.threshold.unwrap_or(Adaptive::DEFAULT_THRESHOLD),
+    )
+    .map_err(|e| anyhow!("{e}"))?;
+    if let Some(csv) = &args.csv {
+        check_output_ext(csv, "csv", "--csv")?;
+    }
+    let view = View {
+        scene: &scene,
+        width,
+        height,
+        window,
+        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: args.threads as usize,
+        texture_filter: TextureFilter::None,
+    };
+    say(&format!(
+        "{}: {}x{} window at ({}, {}) of {}x{}, depth {}, {}; {}",
+        scene.name,
+        window.width,
+        window.height,
+        window.x0,
+        window.y0,
+        width,
+        height,
+        view.max_depth,
+        args.sampler.name(),
+        adaptive
+    ));
+    let cache_dir = args
+        .cache_dir
+        .clone()
+        .unwrap_or_else(study::default_cache_dir);
+    let report =
+        study::adaptive::study(&view, args.sampler, adaptive, args.seeds, &cache_dir, &say)?;
+    if let Some(csv) = &args.csv {
+        write_text(csv, &report.csv())?;
+    }
+    say(&report.table());
+    Ok(())
+}
