@@ -1122,7 +1122,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
     let full = String::from_utf8_lossy(&bytes(&d.join("full.png"))).into_owned();
     assert!(full.contains("threshold=0.002 min=8 max=48"), "metadata");
     // The map is the image's pixels with the legend under it (padded to
-    // the legend's width), and varies: dark at the base count, brighter
+    // the legend's width), and varies: dark at the minimum, brighter
     // where pixels took more.
     use strata_runner::plot::{SPP_LEGEND_HEIGHT, SPP_LEGEND_MIN_WIDTH};
     let (w, h) = png_size(&d.join("full.png"));
