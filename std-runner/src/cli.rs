@@ -171,14 +171,15 @@ pub struct AdaptiveArgs {
     /// Pixel sampler of the adaptive and the uniform renders.
     #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
     pub sampler: SamplerKind,
-    /// The adaptive threshold [default: the core's default].
-    #[arg(long, value_parser = positive_f32)]
-    pub threshold: Option<f32>,
-    /// Samples every pixel takes first [default: the core's default].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
-    pub min_spp: Option<u32>,
-    /// The most samples a pixel takes.
-    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
+    /// The adaptive threshold (`render --adaptive`'s).
+    #[arg(long, value_parser = positive_f32, default_value_t = strata::render::Adaptive::DEFAULT_THRESHOLD)]
+    pub threshold: f32,
+    /// The fewest samples a pixel takes (a multiple of 4, at least 8).
+    #[arg(long, default_value_t = strata::render::Adaptive::DEFAULT_MIN, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
+    pub min_spp: u32,
+    /// The most samples a pixel takes (rounded down to whole blocks of
+    /// --min-spp/4).
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub max_spp: u32,
     /// Seeds per row (adaptive and each uniform spp).
     #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
@@ -361,8 +362,8 @@ pub struct RenderArgs {
     pub samples: Option<std::ops::Range<u32>>,
     /// Adaptive sampling (instead of --spp): every pixel takes a pilot of
     /// --min-spp/2 samples in two halves, then a rest of at least
-    /// --min-spp/2 as long as the pilot asks, up to --max-spp in all, and
-    /// stays unbiased; a smaller THRESHOLD asks for more samples where
+    /// --min-spp/2 as long as the pilot asks, up to --max-spp, and stays
+    /// unbiased; a smaller THRESHOLD asks for more samples where
     /// the pilot is noisy (see the README; default 0.001).
     #[arg(
         long,
@@ -373,11 +374,13 @@ pub struct RenderArgs {
         conflicts_with_all = ["samples", "spp"]
     )]
     pub adaptive: Option<f32>,
-    /// The fewest samples a pixel takes with --adaptive (a multiple of 4).
-    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MIN, value_parser = value_parser!(u32).range(2..=MAX_SPP as i64))]
+    /// The fewest samples a pixel takes with --adaptive (a multiple of 4,
+    /// at least 8).
+    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MIN, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub min_spp: u32,
-    /// The most samples a pixel takes with --adaptive.
-    #[arg(long, requires = "adaptive", default_value_t = 1024, value_parser = value_parser!(u32).range(2..=MAX_SPP as i64))]
+    /// The most samples a pixel takes with --adaptive (rounded down to
+    /// whole blocks of --min-spp/4).
+    #[arg(long, requires = "adaptive", default_value_t = 1024, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub max_spp: u32,
     /// With --adaptive, also write a heat map of the samples each pixel
     /// took as a PNG (viridis, log scale: dark = --min-spp, yellow =

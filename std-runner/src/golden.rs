@@ -98,8 +98,8 @@ pub const GOLDEN: &[(&str, &str, u64)] = &[
     ("showcase", "stratified+lanczos", 0xcc1e2c3ebebefc9c),
     ("week09", "halton+gaussian", 0xb9e7b0ef8cb82649),
     ("horizon", "stratified+texture-box", 0x590209255971fe33),
-    ("week09", "sobol+adaptive", 0x431895f8b8b593be),
-    ("cover", "independent+adaptive", 0x58b0c5fb31c6dbb6),
+    ("week09", "sobol+adaptive", 0x217c7066ab1b418a),
+    ("cover", "independent+adaptive", 0xd7e1f2566e68f300),
     ("week09", "scene", 0x7ee690f76348c390),
     ("cover", "scene", 0xdec2984dedc5ee3f),
     ("showcase", "scene", 0x0fd2d63ec0dc14d1),
@@ -156,7 +156,7 @@ pub enum Variant {
     Filter(strata::filter::FilterKind),
     /// The box-filtered checker (`--texture-filter box`).
     TextureBox,
-    /// Adaptive sampling: at least [`SPP`], at most 4 × [`SPP`], threshold 0.002.
+    /// Adaptive sampling: at least 2 × [`SPP`], at most 4 × [`SPP`], threshold 0.002.
     Adaptive,
 }
 
@@ -290,7 +290,7 @@ pub fn render_variant_hash(
         Some(Variant::TextureBox) => job.texture_filter = strata::render::TextureFilter::Box,
         Some(Variant::Adaptive) => {
             job.adaptive = Some(
-                strata::render::Adaptive::new(SPP, 4 * SPP, 0.002)
+                strata::render::Adaptive::new(2 * SPP, 4 * SPP, 0.002)
                     .map_err(|e| anyhow!("adaptive: {e}"))?,
             );
             job.spp = 4 * SPP;

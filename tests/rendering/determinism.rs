@@ -252,13 +252,13 @@ fn adaptive_renders_are_the_same_for_any_threads_tiles_and_crops() {
     ] {
         let scene = built_in(name).unwrap();
         let (w, h) = (29, 17);
-        let mut base = adaptive(adaptive_job(&scene, w, h, 4, 3), 4, 64, 0.002);
+        let mut base = adaptive(adaptive_job(&scene, w, h, 8, 3), 8, 64, 0.002);
         base.sampler = sampler;
         base.filter = filter;
         let one = run(&base, &|_| {}).unwrap().pixels;
         // Work was adapted: not every pixel stopped at the minimum or the top.
-        assert!(one.iter().any(|p| p.taken() == 4), "{name}");
-        assert!(one.iter().any(|p| p.taken() > 4), "{name}");
+        assert!(one.iter().any(|p| p.taken() == 8), "{name}");
+        assert!(one.iter().any(|p| p.taken() > 8), "{name}");
         for (threads, tile) in [(2, 8), (2, 3), (1, 32)] {
             let j = Job {
                 threads,

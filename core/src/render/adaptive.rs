@@ -20,13 +20,26 @@
 //!
 //! where `r_A` is the rest half A's statistics alone would ask for (and
 //! `r_B` B's). Each part's weight and length depend only on samples
-//! outside it, so each term is unbiased and so is the pixel (exactly for
-//! independent samples; for the Sobol' family the parts are slightly
-//! dependent, and the bias is measured, see the README). Where both
-//! halves agree (`r_A = r_B = r`) every sample weighs the same, as in a
-//! plain mean; where only half A saw a rare bright path, the rest grows
-//! and dilutes it, but A's own weight is set by B, which saw a smooth
-//! pixel: that is the price of unbiasedness, paid only by such pixels.
+//! outside it, so each term is unbiased and so is the pixel: exactly for
+//! independent samples under filter weights of 1 (box, tent). Two things
+//! bend it, both measured in the README:
+//! - samplers that stratify a pixel's samples jointly (stratified, the
+//!   Sobol' family, Halton) make the parts slightly dependent;
+//! - under a filter whose weights vary, each part's mean is the film's
+//!   ratio `Σ w·L / Σ w` over that part alone, biased by `O(1/b)` where a
+//!   plain mean is `O(1/n)`, and a part of few samples falls back to the
+//!   plain mean (`|Σ w| < n/4`) more often than a whole pixel would.
+//!
+//! Where both halves agree (`r_A = r_B = r`) every sample weighs the
+//! same, as in a plain mean; where only half A saw a rare bright path,
+//! the rest grows and dilutes B's share, but A's own weight is set by B,
+//! which saw a smooth pixel: that is the price of unbiasedness, paid only
+//! by such pixels. (Likewise, where each half looks smooth but the two
+//! disagree, so the whole pilot asks for a long rest, the pilot keeps the
+//! weight of a short one.) A pilot half whose samples were all dropped
+//! (not finite) gives its weight to the rest, which keeps the weights
+//! free of the samples they weigh; a rest whose samples were all dropped
+//! leaves the pilot's halves to share its weight.
 //!
 //! How many samples a pixel takes follows the allocation that minimises
 //! the image's squared error for a given number of rays: samples in
@@ -56,6 +69,7 @@ pub const ERROR_FLOOR: f64 = 0.05;
 /// assert_eq!(a.block(), 8);
 /// assert_eq!(a.rest_range(), 16..=1008);
 /// assert!(Adaptive::new(30, 1024, 0.02).is_err()); // four blocks need a multiple of 4
+/// assert!(Adaptive::new(4, 1024, 0.02).is_err()); // a half needs two samples
 /// assert!(Adaptive::new(32, 16, 0.02).is_err()); // max below the minimum
 /// assert!(Adaptive::new(32, 1024, f32::NAN).is_err());
 /// ```
@@ -69,7 +83,8 @@ pub struct Adaptive {
 /// Why an [`Adaptive`] was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AdaptiveError {
-    /// The minimum is 0 or not a multiple of 4 (it is four blocks).
+    /// The minimum is below 8 or not a multiple of 4 (it is four blocks
+    /// of at least two samples: a half's deviation needs two).
     Min,
     /// The maximum is below the minimum.
     Max,
@@ -82,7 +97,7 @@ impl core::fmt::Display for AdaptiveError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
             AdaptiveError::Min => {
-                "the adaptive minimum must be a positive multiple of 4 (four blocks of min/4 samples)"
+                "the adaptive minimum must be a multiple of 4 of at least 8 (four blocks of min/4 samples, at least 2)"
             }
             AdaptiveError::Max => "the adaptive maximum is below the minimum",
             AdaptiveError::Threshold => "the adaptive threshold is not positive and finite",
@@ -118,11 +133,12 @@ impl Adaptive {
     /// `caustics`: 64 lost to uniform sampling at equal cost).
     pub const DEFAULT_MIN: u32 = 128;
 
-    /// At least `min` samples (a positive multiple of 4: four blocks of
-    /// `min / 4`), at most `max ≥ min`, `threshold` positive and finite.
+    /// At least `min` samples (a multiple of 4 of at least 8: four blocks
+    /// of `min / 4 ≥ 2`), at most `max ≥ min` (rounded down to whole
+    /// blocks), `threshold` positive and finite.
     #[inline]
     pub fn new(min: u32, max: u32, threshold: f32) -> Result<Self, AdaptiveError> {
-        if min == 0 || !min.is_multiple_of(4) {
+        if min < 8 || !min.is_multiple_of(4) {
             return Err(AdaptiveError::Min);
         }
         if max < min {
@@ -199,7 +215,8 @@ impl Adaptive {
         let (b, range) = (self.block() as f64, self.rest_range());
         let (lo, hi) = (*range.start(), *range.end());
         let want = (stats.samples_wanted(self.threshold) - 2.0 * b) / b;
-        // ∞, NaN (from overflowing sums) and huge values take the most.
+        // ∞ (fewer than two samples), huge values and, defensively, NaN
+        // take the most.
         if want.is_nan() || want >= (hi / self.block()) as f64 {
             hi
         } else {
@@ -378,8 +395,9 @@ mod tests {
 
     #[test]
     fn settings_are_checked() {
-        assert_eq!(Adaptive::new(0, 8, 0.1), Err(AdaptiveError::Min));
-        assert_eq!(Adaptive::new(6, 8, 0.1), Err(AdaptiveError::Min));
+        for min in [0, 4, 6, 10] {
+            assert_eq!(Adaptive::new(min, 64, 0.1), Err(AdaptiveError::Min));
+        }
         assert_eq!(Adaptive::new(8, 4, 0.1), Err(AdaptiveError::Max));
         for t in [0.0, -1.0, f32::INFINITY, f32::NAN] {
             assert_eq!(Adaptive::new(8, 8, t), Err(AdaptiveError::Threshold));
@@ -390,7 +408,7 @@ mod tests {
 
     #[test]
     fn rests_stay_in_range_and_every_count_they_give_is_possible() {
-        for (min, max) in [(4, 4), (4, 5), (8, 24), (16, 1000), (128, 1024)] {
+        for (min, max) in [(8, 8), (8, 9), (8, 24), (16, 1000), (128, 1024)] {
             let a = Adaptive::new(min, max, 0.01).unwrap();
             let range = a.rest_range();
             assert!(2 * a.block() + range.end() <= max, "{min} {max}");
@@ -400,7 +418,7 @@ mod tests {
                 stats(&[0.5], 1),                  // one sample: ∞
                 stats(&[0.5, 0.5, 0.5], 3),        // no variance: 0
                 stats(&[0.0, 1.0, 0.0, 1.0], 2),   // noisy
-                stats(&[0.0, 3e38, 0.0, 3e38], 2), // overflowing sums
+                stats(&[0.0, 3e38, 0.0, 3e38], 2), // the largest values
                 stats(&[1e-30, 2e-30], 9),         // below the floor
             ];
             for c in &cases {
@@ -412,6 +430,7 @@ mod tests {
             assert_eq!(a.rest_for(&cases[2]), *range.start());
             assert_eq!(a.rest_for(&cases[4]), *range.end());
             assert!(!a.can_take(min - 1) && !a.can_take(max + 1));
+            assert!(!a.can_take(min + 1), "{min}: not a whole block");
         }
     }
 

@@ -299,9 +299,10 @@ fn for_each_group<S: Sampler + Clone>(
     scratch.stats
 }
 
-/// Renders every pixel of `tile` adaptively and adds the samples to
-/// `film` (row-major over the tile; started at [`PixelSum::ZERO`] it
-/// holds each pixel's sample count as `samples + dropped`), as
+/// Renders every pixel of `tile` adaptively and writes it to `film`
+/// (row-major over the tile; what was there is replaced): each pixel holds
+/// its blended value (its `weight` is `2²⁴` times its kept samples, not a
+/// filter-weight sum) and its sample count as `samples + dropped`, as
 /// [`Adaptive`] describes: the pilot's two blocks, then the rest the
 /// pilot asks for, joined by [`PixelSum::blend`] with weights that never
 /// depend on the samples they weigh. A pixel depends on its own samples
@@ -395,6 +396,10 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
                 rests[l] = adaptive.rest_for(&both);
                 let [ca, cb] =
                     adaptive.pilot_weights(adaptive.rest_for(&a), adaptive.rest_for(&bh));
+                // A pilot half with no kept sample gives its weight to the
+                // rest, whose weight then still depends on the pilot only.
+                let ca = if parts[l][0].samples == 0 { 0.0 } else { ca };
+                let cb = if parts[l][1].samples == 0 { 0.0 } else { cb };
                 weights[l] = [ca, cb, 1.0 - ca - cb];
             }
             // The rest in index order; the lanes still sampling trace each
@@ -421,7 +426,9 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
                     (parts[l][1], weights[l][1]),
                     (parts[l][2], weights[l][2]),
                 ]);
-                film[l].merge(&blended);
+                // Written, not added: a blend's `weight` is 2²⁴·n, not a
+                // filter-weight sum, so it does not merge with one.
+                film[l] = blended;
             }
         },
     ))

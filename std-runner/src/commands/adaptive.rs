@@ -1,12 +1,14 @@
 //! `strata adaptive`: adaptive sampling against uniform sampling at equal
 //! cost (see [`crate::study::adaptive`]).
 
-use anyhow::{Result, anyhow, bail};
-use strata::render::{Adaptive, TextureFilter, Tile};
+use anyhow::{Result, bail};
+use strata::render::{TextureFilter, Tile};
 
 use crate::cli::AdaptiveArgs;
 use crate::commands::output::write_text;
-use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene, window_of};
+use crate::commands::{
+    adaptive_settings, check_output_ext, check_pixels, height_for, resolve_scene, window_of,
+};
 use crate::image_io::say;
 use crate::render::SamplerKind;
 use crate::study::{self, View};
@@ -28,12 +30,7 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
              the grid fills its rows in order"
         );
     }
-    let adaptive = Adaptive::new(
-        args.min_spp.unwrap_or(Adaptive::DEFAULT_MIN),
-        args.max_spp,
-        args.threshold.unwrap_or(Adaptive::DEFAULT_THRESHOLD),
-    )
-    .map_err(|e| anyhow!("{e}"))?;
+    let adaptive = adaptive_settings(args.min_spp, args.max_spp, args.threshold, "--threshold")?;
     if let Some(csv) = &args.csv {
         check_output_ext(csv, "csv", "--csv")?;
     }

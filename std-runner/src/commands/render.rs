@@ -4,15 +4,16 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use anyhow::{Result, anyhow, bail};
-use strata::render::{Adaptive, AdaptiveError, Tile, TileStats};
+use anyhow::{Result, bail};
+use strata::render::{Adaptive, Tile, TileStats};
 
 use crate::cli::RenderArgs;
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
 use crate::commands::{
-    check_output_ext, check_pixels, height_for, progress_bar, resolve_scene, window_of,
+    adaptive_settings, check_output_ext, check_pixels, height_for, progress_bar, resolve_scene,
+    window_of,
 };
 use crate::film::{Film, RenderKey, samples_text, window_text};
 use crate::image_io::{Transfer, say};
@@ -124,13 +125,7 @@ impl RenderArgs {
             return Ok((self.spp.unwrap_or(scene_spp), None));
         };
         let (min, max) = (self.min_spp, self.max_spp);
-        let adaptive = Adaptive::new(min, max, t).map_err(|e| match e {
-            AdaptiveError::Max => anyhow!("--max-spp {max} is below --min-spp {min}"),
-            AdaptiveError::Min => {
-                anyhow!("--min-spp {min} must be a multiple of 4 (four blocks of {min}/4 samples)")
-            }
-            e => anyhow!("--adaptive {t}: {e}"),
-        })?;
+        let adaptive = adaptive_settings(min, max, t, "--adaptive")?;
         if self.sampler == SamplerKind::Grid {
             bail!(
                 "--adaptive needs a sampler whose first samples spread over the pixel \

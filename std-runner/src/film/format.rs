@@ -207,13 +207,12 @@ pub(super) fn check_counts(
     if let Some(at) = pixels.iter().position(|p| !possible(p.taken())) {
         let want = match key.adaptive {
             None => n.to_string(),
-            Some(a) => {
-                let most = 2 * a.block() + a.rest_range().end();
-                match a.block() {
-                    1 => format!("from {} to {most}", a.min()),
-                    b => format!("a multiple of {b} from {} to {most}", a.min()),
-                }
-            }
+            Some(a) => format!(
+                "a multiple of {} from {} to {}",
+                a.block(),
+                a.min(),
+                2 * a.block() + a.rest_range().end()
+            ),
         };
         bail!(
             "pixel {at} of the window holds {} samples where the range {}..{} has {want}",

@@ -26,8 +26,10 @@
 //!
 //! An adaptive render (`adaptive=threshold=T min=N max=M`, with `spp` =
 //! M) covers samples `0..M` of its window: each pixel holds the `N..=M`
-//! samples its halves asked for (whole blocks of N/2). Adaptive parts split the pixels only,
-//! never the samples.
+//! samples its pilot asked for (whole blocks of N/4), and its record's
+//! weight is 2^24 times its kept samples (its value is a blend of the
+//! pilot's halves and the rest, see `strata::render::Adaptive`).
+//! Adaptive parts split the pixels only, never the samples.
 
 //!
 //! Here: [`Film`] and the file it becomes (a `.film`, or its window as an

@@ -103,50 +103,52 @@ fn damaged_or_hostile_films_are_refused() {
 
 #[test]
 fn adaptive_films_hold_counts_from_the_minimum_to_the_maximum() {
-    let mut f = film(7, 5, tile(2, 1, 3, 4), 0..8);
-    f.key.fields[11].1 = "threshold=0.05 min=4 max=8".into();
-    f.key.adaptive = Some(strata::render::Adaptive::new(4, 8, 0.05).unwrap());
+    // min 8, max 16: blocks of 2, so 8, 10, …, 16 samples.
+    let mut f = film(7, 5, tile(2, 1, 3, 4), 0..16);
+    f.key.spp = 16;
+    for (name, value) in f.key.fields.iter_mut() {
+        match *name {
+            "spp" => *value = "16".into(),
+            "adaptive" => *value = "threshold=0.05 min=8 max=16".into(),
+            _ => {}
+        }
+    }
+    f.key.adaptive = Some(strata::render::Adaptive::new(8, 16, 0.05).unwrap());
     for (i, p) in f.pixels.iter_mut().enumerate() {
-        p.samples = 3 + i as u32 % 5; // 4 to 8 with the dropped one
+        p.samples = 7 + 2 * (i as u32 % 5); // 8 to 16 with the dropped one
     }
     assert_eq!(Film::from_bytes(&f.to_bytes()).unwrap(), f);
-    for bad in [0, 2] {
-        let mut few = f.clone();
-        few.pixels[3].samples = bad; // 1 or 3 taken: below the pilot and rest
-        let e = refused(&few.to_bytes());
+    let adaptive_field = f.key.fields.iter().position(|x| x.0 == "adaptive").unwrap();
+    // Below the minimum, or not a whole block.
+    for bad in [4, 8, 10] {
+        let mut odd = f.clone();
+        odd.pixels[3].samples = bad; // 5, 9 or 11 taken
+        let e = refused(&odd.to_bytes());
         let want = format!(
-            "holds {} samples where the range 0..8 has from 4 to 8",
+            "holds {} samples where the range 0..16 has a multiple of 2 from 8 to 16",
             bad + 1
         );
         assert!(e.contains(&want), "{e}");
         // Built in code, the merge checks the same.
-        let names = [PathBuf::from("few")];
-        let e = format!("{:#}", merge(&[few], &names).unwrap_err());
+        let names = [PathBuf::from("odd")];
+        let e = format!("{:#}", merge(&[odd], &names).unwrap_err());
         assert!(e.contains(&want), "{e}");
     }
-    // Blocks of 2 (min 8): an odd count cannot end a block.
-    let mut blocks = f.clone();
-    blocks.key.fields[11].1 = "threshold=0.05 min=8 max=8".into();
-    blocks.key.adaptive = Some(strata::render::Adaptive::new(8, 8, 0.05).unwrap());
-    blocks.pixels.iter_mut().for_each(|p| p.samples = 7);
-    assert_eq!(Film::from_bytes(&blocks.to_bytes()).unwrap(), blocks);
-    blocks.pixels[0].samples = 6;
-    let e = refused(&blocks.to_bytes());
-    assert!(e.contains("has a multiple of 2 from 8 to 8"), "{e}");
     let mut part = f.clone();
-    part.samples = 0..4;
+    part.samples = 0..8;
     let e = refused(&part.to_bytes());
-    assert!(e.contains("must cover samples 0..8 with max=8"), "{e}");
+    assert!(e.contains("must cover samples 0..16 with max=16"), "{e}");
     let mut other = f.clone();
-    other.key.fields[11].1 = "threshold=0.05 min=4 max=6".into();
+    other.key.fields[adaptive_field].1 = "threshold=0.05 min=8 max=12".into();
     let e = refused(&other.to_bytes());
-    assert!(e.contains("with max=6"), "{e}");
+    assert!(e.contains("with max=12"), "{e}");
     for bad in [
-        "threshold=-1 min=4 max=8",
-        "threshold=0.05 min=6 max=8",
-        "threshold=0.05 base=4 max=8",
+        "threshold=-1 min=8 max=16",
+        "threshold=0.05 min=4 max=16",
+        "threshold=0.05 min=10 max=16",
+        "threshold=0.05 base=8 max=16",
     ] {
-        other.key.fields[11].1 = bad.into();
+        other.key.fields[adaptive_field].1 = bad.into();
         let e = refused(&other.to_bytes());
         assert!(e.contains("bad `adaptive`"), "{bad}: {e}");
     }

@@ -8,7 +8,9 @@
 //! shadow) and CPU seconds of the process; the uniform RMSE and relMSE
 //! are interpolated log–log between the two ladder points around the
 //! adaptive run's cost. Bias is the adaptive image's mean luminance
-//! against the reference's, with its standard error over seeds.
+//! against the reference's, with its standard error over seeds (which
+//! leaves out the reference's own error, shared by every seed: at 64
+//! times the spp it adds about `1/√64` of one seed's).
 
 use std::fmt::Write as _;
 
@@ -18,6 +20,7 @@ use strata::render::Adaptive;
 
 use super::View;
 use crate::bench::harness::process_cpu_seconds;
+use crate::limits::MAX_STUDY_SPP;
 use crate::render::{Job, SamplerKind, run};
 
 /// The ε of relMSE, `(x − r)² / (r² + ε)`.
@@ -98,9 +101,13 @@ pub struct Report {
 
 /// Uniform `(rmse, rel_mse)` interpolated log–log at `cost`, from the two
 /// ladder rows around it by `cost_of`; `None` if the ladder does not
-/// bracket it.
+/// bracket it or a cost is not positive (CPU time unknown).
 #[must_use]
 pub fn at_cost(rows: &[Row], cost: f64, cost_of: fn(&Row) -> f64) -> Option<(f64, f64)> {
+    let positive = |c: f64| c.is_finite() && c > 0.0;
+    if !positive(cost) || !rows.iter().all(|r| positive(cost_of(r))) {
+        return None;
+    }
     let mut sorted: Vec<&Row> = rows.iter().collect();
     sorted.sort_by(|a, b| cost_of(a).total_cmp(&cost_of(b)));
     let pair = sorted
@@ -150,16 +157,29 @@ impl Report {
                     a.rmse / rmse,
                     a.rel_mse / rel
                 ),
-                None => write!(t, "\nat equal {what}: the uniform ladder does not reach it"),
+                None => write!(
+                    t,
+                    "\nat equal {what}: n/a (the uniform ladder does not bracket it, or the cost \
+                     is unknown)"
+                ),
             }
             .ok();
         }
-        write!(
-            t,
-            "\nbias: adaptive mean luminance {:+.3} % ± {:.3} % (1 s.e.) of the reference's",
-            100.0 * self.bias,
-            100.0 * self.bias_se
-        )
+        match (self.bias.is_finite(), self.bias_se.is_finite()) {
+            (true, true) => write!(
+                t,
+                "\nbias: adaptive mean luminance {:+.3} % ± {:.3} % (1 s.e.) of the reference's",
+                100.0 * self.bias,
+                100.0 * self.bias_se
+            ),
+            (true, false) => write!(
+                t,
+                "\nbias: adaptive mean luminance {:+.3} % of the reference's (one seed: no \
+                 standard error)",
+                100.0 * self.bias
+            ),
+            _ => write!(t, "\nbias: n/a (the reference is black)"),
+        }
         .ok();
         t
     }
@@ -248,7 +268,14 @@ pub fn study(
         .collect::<Result<Vec<_>>>()?;
     let px = view.window.area() as f64;
     let mean_spp = adaptive_runs.iter().map(|r| r.paths as f64).sum::<f64>() / (seeds as f64 * px);
-    let reference_spp = ((REFERENCE_FACTOR * mean_spp).ceil() as u32).next_power_of_two();
+    let wanted = (REFERENCE_FACTOR * mean_spp).ceil();
+    if wanted > MAX_STUDY_SPP as f64 {
+        bail!(
+            "the reference would need {wanted} spp (64 times the adaptive mean of {mean_spp:.1}), \
+             above {MAX_STUDY_SPP}: lower --max-spp or raise --threshold"
+        );
+    }
+    let reference_spp = (wanted as u32).next_power_of_two();
     say(&format!(
         "adaptive: {mean_spp:.2} samples per pixel on average; reference: sobol {reference_spp} spp"
     ));
@@ -353,6 +380,11 @@ mod tests {
         assert!((rel - 0.16 * 0.4).abs() < 1e-12, "{rel}");
         assert!(at_cost(&rows, 39.0, |r| r.rays).is_none());
         assert!(at_cost(&rows, 161.0, |r| r.rays).is_none());
+        // Unknown CPU time (0) is not a cost.
+        assert!(at_cost(&rows, 0.0, |r| r.rays).is_none());
+        let mut unknown = rows;
+        unknown[1].cpu = 0.0;
+        assert!(at_cost(&unknown, 1.0, |r| r.cpu).is_none());
     }
 
     #[test]
