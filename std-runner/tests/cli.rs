@@ -1224,12 +1224,13 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
         (vec!["render", "--adaptive", "0"], "positive"),
         (vec!["render", "--adaptive", "nan"], "positive"),
         (
-            vec!["render", "--adaptive", "--min-spp", "6"],
-            "--min-spp 6 must be a multiple of 4",
+            vec!["render", "--adaptive", "--min-spp", "10"],
+            "--min-spp 10 must be a multiple of 4 of at least 8",
         ),
+        (vec!["render", "--adaptive", "--min-spp", "4"], "not in 8.."),
         (
             vec!["render", "--adaptive", "--min-spp", "64", "--max-spp", "32"],
-            "--max-spp 32 is below --min-spp 64",
+            "--max-spp 32 is below --min-spp 64 (default 128)",
         ),
         (vec!["render", "--spp-map", "m.png"], "--adaptive"),
         (
@@ -1554,5 +1555,75 @@ fn converge_error_spectrum_writes_plot_csv_and_ratios() {
         "converge-week09.png",
     ] {
         assert!(!d.join(name).exists(), "{name}");
+    }
+}
+
+#[test]
+fn adaptive_study_checks_its_flags_then_measures() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, want) in [
+        (
+            vec!["adaptive", "--csv", "x.txt"],
+            "--csv `x.txt` must end in .csv",
+        ),
+        (
+            vec!["adaptive", "--sampler", "grid"],
+            "the grid fills its rows in order",
+        ),
+        (
+            vec!["adaptive", "--min-spp", "12", "--max-spp", "8"],
+            "--max-spp 8 is below --min-spp 12",
+        ),
+        (vec!["adaptive", "--threshold", "0"], "positive"),
+        (vec!["adaptive", "--pixel-bounds", "0,400,0,10"], "outside"),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+    let said = ok(
+        d,
+        &[
+            "adaptive",
+            "--scene",
+            "week09",
+            "--width",
+            "16",
+            "--seeds",
+            "2",
+            "--min-spp",
+            "8",
+            "--max-spp",
+            "32",
+            "--threshold",
+            "0.01",
+            "--cache-dir",
+            "cache",
+            "--csv",
+            "a.csv",
+        ],
+    );
+    for want in [
+        "2 seed(s); reference: sobol",
+        "at equal rays: uniform RMSE",
+        "bias: adaptive",
+    ] {
+        assert!(said.contains(want), "{want}: {said}");
+    }
+    let csv = std::fs::read_to_string(d.join("a.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("run,spp,rays_per_pixel,cpu_seconds,rmse,rel_mse")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() >= 3, "{csv}");
+    assert_eq!(rows[0][0], "adaptive");
+    // The adaptive mean spp lies within its settings; every uniform row
+    // took exactly its spp.
+    let spp: f64 = rows[0][1].parse().unwrap();
+    assert!((8.0..=32.0).contains(&spp), "{spp}");
+    for r in &rows[1..] {
+        assert_eq!(format!("uniform{}", r[1]), r[0]);
     }
 }
