@@ -221,6 +221,9 @@ pub struct FilterSample {
 pub struct PixelFilter {
     kind: FilterKind,
     radius: f32,
+    /// Whether the filter takes negative values anywhere: such filters
+    /// are splatted ([`PixelFilter::splats`]).
+    negative: bool,
     /// `1 / ∫ f₁`: the 1-D normalisation.
     norm: f32,
     table: Option<PiecewiseConstant2D>,
@@ -232,6 +235,7 @@ impl PixelFilter {
     pub const BOX: PixelFilter = PixelFilter {
         kind: FilterKind::Box,
         radius: 0.5,
+        negative: false,
         norm: 1.0,
         table: None,
     };
@@ -268,9 +272,13 @@ impl PixelFilter {
         if !(integral.abs() > 1e-12 && integral.is_finite()) {
             return Err(FilterError::Zero);
         }
+        // The profile on a fine grid of [0, r]: its negative lobes are
+        // wider than a grid step for every kind and parameter accepted.
+        let negative = (0..=1024).any(|i| kind.profile(radius, radius * i as f32 / 1024.0) < 0.0);
         let mut filter = Self {
             kind,
             radius,
+            negative,
             norm: (1.0 / integral) as f32,
             table: None,
         };
@@ -328,6 +336,54 @@ impl PixelFilter {
     pub fn eval(&self, p: Vec2) -> f32 {
         let f = |x: f32| self.kind.profile(self.radius, x) * self.norm;
         f(p.x) * f(p.y)
+    }
+
+    /// The normalised 1-D profile at `x` pixels from the centre:
+    /// [`PixelFilter::eval`] is `eval_axis(p.x) · eval_axis(p.y)`.
+    #[inline]
+    #[must_use]
+    pub fn eval_axis(&self, x: f32) -> f32 {
+        self.kind.profile(self.radius, x) * self.norm
+    }
+
+    /// Whether renders splat this filter instead of importance-sampling
+    /// it: filters with negative lobes (Mitchell–Netravali with the usual
+    /// parameters, Lanczos). Importance sampling gives each sample a
+    /// weight `f / pdf` whose sign changes at random, so a pixel of few
+    /// samples can sum to a weight near 0 or below: speckles and dark
+    /// pixels. Splatted, every sample adds `f(x − p)·L` and `f(x − p)` to
+    /// every pixel `p` its filter reaches, and each pixel's sum of weights
+    /// is close to its sample count.
+    ///
+    /// ```
+    /// use strata::filter::{FilterKind, PixelFilter};
+    /// let splats = |k: FilterKind| PixelFilter::new(k, k.default_radius()).unwrap().splats();
+    /// assert!(splats(FilterKind::named("lanczos").unwrap()));
+    /// assert!(splats(FilterKind::named("mitchell").unwrap()));
+    /// assert!(!splats(FilterKind::named("gaussian").unwrap()));
+    /// assert!(!PixelFilter::BOX.splats());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn splats(&self) -> bool {
+        self.negative
+    }
+
+    /// The pixels on each side of a pixel that its samples reach when
+    /// splatted: `⌈r + ½⌉ − 1` (a sample in `[p, p + 1)` reaches the
+    /// centres within `r` of it). 0 for the box of radius ½.
+    ///
+    /// ```
+    /// use strata::filter::{FilterKind, PixelFilter};
+    /// let margin = |k: FilterKind, r: f32| PixelFilter::new(k, r).unwrap().splat_margin();
+    /// assert_eq!(margin(FilterKind::named("mitchell").unwrap(), 2.0), 2);
+    /// assert_eq!(margin(FilterKind::named("lanczos").unwrap(), 3.0), 3);
+    /// assert_eq!(margin(FilterKind::Box, 0.5), 0);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn splat_margin(&self) -> u32 {
+        libm::ceilf(self.radius + 0.5) as u32 - 1
     }
 
     /// The density with which [`PixelFilter::sample`] draws offset `p`

@@ -39,7 +39,10 @@ pub use integrator::{RenderSettings, pixel_sample, pixel_sample_with};
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
-pub use tile::{RenderError, Tile, TileStats, render_tile, render_tile_adaptive};
+pub use tile::{
+    RenderError, Tile, TileStats, render_tile, render_tile_adaptive, render_tile_splat,
+    splat_film_size,
+};
 
 /// The revision of what renders compute: raised whenever a change alters
 /// an existing output (a pixel, a scene hash, a file's bytes; the output

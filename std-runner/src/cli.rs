@@ -388,8 +388,11 @@ pub struct RenderArgs {
     /// with a legend under it (at least 240 pixels wide).
     #[arg(long, requires = "adaptive")]
     pub spp_map: Option<PathBuf>,
-    /// Pixel reconstruction filter, applied by importance sampling (each
-    /// pixel depends only on its own samples).
+    /// Pixel reconstruction filter. Box, tent, gaussian and
+    /// blackman-harris are importance-sampled (each pixel depends only on
+    /// its own samples); mitchell and lanczos, whose lobes are negative,
+    /// are splatted into every pixel they reach (renders then cover the
+    /// whole image; --samples splits still merge), except with --adaptive.
     #[arg(long, value_enum, default_value_t = FilterName::Box)]
     pub filter: FilterName,
     /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5

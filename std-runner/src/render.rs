@@ -12,7 +12,7 @@ use glam::UVec2;
 use rayon::prelude::*;
 use strata::render::{
     Adaptive, Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile,
-    render_tile_adaptive,
+    render_tile_adaptive, render_tile_splat, splat_film_size,
 };
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
@@ -220,6 +220,16 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
              the grid fills its rows in order"
         ));
     }
+    let splat = job.filter.splats() && job.adaptive.is_none();
+    if splat && w != Tile::whole(job.width, job.height) {
+        return Err(anyhow!(
+            "the {} filter is splatted: each sample reaches pixels up to {} away, so a render \
+             of it covers the whole image (pixel windows and crops of it are not supported; \
+             split it by --samples instead)",
+            job.filter.kind().name(),
+            job.filter.splat_margin()
+        ));
+    }
     if let Some(a) = job.adaptive
         && (a.max() != job.spp || job.samples != (0..job.spp))
     {
@@ -260,8 +270,13 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
     let wall = start.elapsed();
     let mut pixels = vec![PixelSum::ZERO; w.area()];
     let mut stats = TileStats::default();
+    let margin = if splat { job.filter.splat_margin() } else { 0 };
     for (tile, film, tile_stats) in films {
         stats.add(&tile_stats);
+        if margin > 0 {
+            add_splatted(&mut pixels, w, tile, margin, &film);
+            continue;
+        }
         for row in 0..tile.height {
             let src = &film[(row * tile.width) as usize..][..tile.width as usize];
             let at = ((tile.y0 - w.y0 + row) * w.width + tile.x0 - w.x0) as usize;
@@ -273,6 +288,20 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         wall,
         stats,
     })
+}
+
+/// Adds a splatted tile's film (the tile and `margin` pixels around it)
+/// into `pixels`, the window `w`'s; entries outside the window are
+/// dropped (a splatted render's window is the whole image).
+fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, margin: u32, film: &[PixelSum]) {
+    let pw = (tile.width + 2 * margin) as usize;
+    for (i, p) in film.iter().enumerate() {
+        let x = (tile.x0 as i64) - margin as i64 + (i % pw) as i64 - w.x0 as i64;
+        let y = (tile.y0 as i64) - margin as i64 + (i / pw) as i64 - w.y0 as i64;
+        if (0..w.width as i64).contains(&x) && (0..w.height as i64).contains(&y) {
+            pixels[(y * w.width as i64 + x) as usize].merge(p);
+        }
+    }
 }
 
 /// Every tile of a job, in parallel, with one sampler kind.
@@ -309,11 +338,26 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
     tiles(job.window, job.tile)
         .into_par_iter()
         .map(|tile| {
-            let mut film = vec![PixelSum::ZERO; tile.area()];
+            let splat = job.filter.splats() && job.adaptive.is_none();
+            let (pw, ph) = match splat {
+                true => splat_film_size(&job.filter, tile)
+                    .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))?,
+                false => (tile.width, tile.height),
+            };
+            let mut film = vec![PixelSum::ZERO; pw as usize * ph as usize];
             let stats = match job.adaptive {
                 Some(a) => {
                     render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
                 }
+                None if splat => render_tile_splat(
+                    scene,
+                    camera,
+                    &sampler,
+                    settings,
+                    tile,
+                    job.samples.clone(),
+                    &mut film,
+                ),
                 None => render_tile(
                     scene,
                     camera,

@@ -8,6 +8,7 @@
 //! | `render` | albedos, MIS, lights, the course's defects fixed |
 //! | `adaptive` | adaptive renders stop where they should and agree with uniform sampling |
 //! | `prefilter` | the prefiltered checker and its ray-differential footprint |
+//! | `splat` | splatted filters: exact flat regions, no speckles, the contract bit for bit |
 
 #[path = "../support/mod.rs"]
 mod support;
@@ -16,3 +17,4 @@ mod adaptive;
 mod determinism;
 mod prefilter;
 mod render;
+mod splat;

@@ -29,12 +29,21 @@ pub const FILM_SCALE: f32 = 16_777_216.0;
 /// before summing (negative values come from filters with negative lobes).
 pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
 
-/// `x` in film units: `round(clamp(x) · 2²⁴)`, exact and the same on every
-/// CPU (the scaling is by a power of two, the rounding is `libm`'s).
+/// `x` in film units: `round(clamp(x) · 2²⁴)`, halves away from zero (as
+/// `roundf`), exact and the same on every CPU: the scaling is by a power
+/// of two, `as i64` truncates, and `y − trunc(y)` is exact for an `f32`
+/// `y` (both are `f32`s of the same binade or below), so the comparison
+/// with ½ decides the rounding exactly. (A splatted sample rounds up to
+/// 4 × 49 values, so this is on the hot path; `libm::roundf` is a
+/// software routine.) NaN is never passed (the film drops it first).
 #[inline]
 #[must_use]
 pub(crate) fn to_fixed(x: f32) -> i64 {
-    libm::roundf(x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE) as i64
+    let y = x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE;
+    // |y| ≤ 2⁴⁰: the truncation fits an i64 and is an f32 again.
+    let t = y as i64;
+    let frac = y - t as f32;
+    t + (frac >= 0.5) as i64 - (frac <= -0.5) as i64
 }
 
 /// One pixel's exact accumulator: fixed-point sums of the weighted RGB
@@ -107,6 +116,39 @@ impl PixelSum {
         }
         self.weight = self.weight.saturating_add(to_fixed(w));
         self.samples = self.samples.saturating_add(1);
+    }
+
+    /// Adds a splatted sample: radiance `l` with filter value `f` (`f·l`
+    /// to the sum and `f` to the weight), counted as one of this pixel's
+    /// samples if `own` (a sample of a neighbouring pixel adds its sums
+    /// only). A sample with a channel that is not finite is counted as
+    /// dropped by its own pixel and adds nothing anywhere.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let mut p = PixelSum::ZERO;
+    /// p.add_splat(Vec3::splat(0.5), 0.75, true);
+    /// p.add_splat(Vec3::splat(0.5), -0.125, false); // a neighbour's sample
+    /// assert_eq!(p.samples, 1);
+    /// assert_eq!(p.mean(), Vec3::splat(0.5)); // flat: exact whatever the weights
+    /// ```
+    #[inline]
+    pub fn add_splat(&mut self, l: Vec3, f: f32, own: bool) {
+        let v = l * f;
+        if !(l.is_finite() && v.is_finite() && f.is_finite()) {
+            if own {
+                self.dropped = self.dropped.saturating_add(1);
+            }
+            return;
+        }
+        for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
+            *s = s.saturating_add(to_fixed(x));
+        }
+        self.weight = self.weight.saturating_add(to_fixed(f));
+        if own {
+            self.samples = self.samples.saturating_add(1);
+        }
     }
 
     /// Adds another accumulator of the same pixel: exact, commutative and
@@ -255,6 +297,53 @@ impl PixelSum {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn to_fixed_rounds_as_roundf_does() {
+        let check = |x: f32| {
+            let want =
+                libm::roundf(x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE) as i64;
+            assert_eq!(to_fixed(x), want, "{x:e}");
+        };
+        // The clamp's boundaries and beyond, zeros, tiny values.
+        for x in [
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            1e-30,
+            0.5,
+            -0.5,
+            1.0,
+            MAX_SAMPLE_VALUE,
+            -MAX_SAMPLE_VALUE,
+            MAX_SAMPLE_VALUE * 2.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+        ] {
+            check(x);
+        }
+        // Every tie k + ½ film units below 2¹⁴ and its neighbours.
+        for k in 0..1 << 14 {
+            let half = (k as f32 + 0.5) / FILM_SCALE;
+            for v in [half, -half] {
+                check(v);
+                check(f32::from_bits(v.to_bits() + 1));
+                check(f32::from_bits(v.to_bits() - 1));
+            }
+        }
+        // A sweep of bit patterns.
+        let mut state = 0x9e37_79b9_u32;
+        for _ in 0..1_000_000 {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            let x = f32::from_bits(state);
+            if !x.is_nan() {
+                check(x);
+            }
+        }
+    }
 
     #[test]
     fn to_fixed_scales_clamps_and_rounds() {

@@ -277,6 +277,8 @@ pub(crate) fn trace_path<S: Sampler>(
 #[derive(Clone, Copy)]
 pub(crate) struct CameraSample {
     pub(crate) ray: Ray,
+    /// Where in the pixel, from its corner (the filter's offset).
+    pub(crate) offset: Vec2,
     pub(crate) weight: f32,
     pub(crate) diff: Option<[Ray; 2]>,
 }
@@ -326,6 +328,7 @@ pub(crate) fn camera_ray<S: Sampler>(
     let diff = (spacing > 0.0).then(|| differentials(camera, pixel, f.offset, lens, spacing));
     CameraSample {
         ray: camera.ray(pixel, f.offset, lens),
+        offset: f.offset,
         weight: f.weight,
         diff,
     }

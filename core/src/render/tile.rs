@@ -13,7 +13,7 @@ use super::scene::Scene;
 use crate::sampler::Sampler;
 use crate::trace::{BvhStack, HitPacket8, Ray, RayPacket8};
 use core::ops::Range;
-use glam::{UVec2, Vec3};
+use glam::{UVec2, Vec2, Vec3};
 
 /// A rectangle of the image: `width × height` pixels from `(x0, y0)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,12 +168,19 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
     /// Traces sample `index` of the lanes `ids` (ascending), their camera
     /// rays as one packet (one by one for two lanes or fewer, where a
     /// packet costs as much as eight), and gives each lane's value, filter
-    /// weight and rays traced to `sink(lane, value, weight, rays)`.
+    /// weight, rays traced and position in its pixel to `sink(lane, value,
+    /// weight, rays, offset)`.
     #[inline(always)]
-    fn trace(&mut self, ids: &[usize], index: u32, mut sink: impl FnMut(usize, Vec3, f32, u32)) {
+    fn trace(
+        &mut self,
+        ids: &[usize],
+        index: u32,
+        mut sink: impl FnMut(usize, Vec3, f32, u32, Vec2),
+    ) {
         let (scene, camera, settings) = (self.scene, self.camera, self.settings);
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
         let mut weights = [0.0f32; 8];
+        let mut offsets = [Vec2::ZERO; 8];
         let mut diffs = [None; 8];
         for (k, &l) in ids.iter().enumerate() {
             let pixel = self.first + UVec2::new(l as u32, 0);
@@ -185,7 +192,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
                 pixel,
                 index,
             );
-            (rays[k], weights[k], diffs[k]) = (c.ray, c.weight, c.diff);
+            (rays[k], weights[k], offsets[k], diffs[k]) = (c.ray, c.weight, c.offset, c.diff);
         }
         // A packet costs about as much as 8 rays, so when adaptive sampling
         // leaves few lanes active they are traced one by one (the hits are
@@ -218,7 +225,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
                 diffs[k],
             );
             let rays = self.scratch.stats.rays + self.scratch.stats.shadow_rays - before;
-            sink(l, v, weights[k], rays as u32);
+            sink(l, v, weights[k], rays as u32, offsets[k]);
         }
     }
 }
@@ -251,18 +258,18 @@ pub fn render_tile<S: Sampler + Clone>(
         sampler,
         settings,
         tile,
-        film,
-        |group, film, n| {
+        |group, at, n| {
+            let film = &mut film[at..at + n];
             for index in samples.clone() {
-                group.trace(&ALL[..n], index, |l, v, w, _| film[l].add_weighted(v, w));
+                group.trace(&ALL[..n], index, |l, v, w, _, _| film[l].add_weighted(v, w));
             }
         },
     ))
 }
 
 /// Calls `f` with each group of up to 8 neighbouring pixels of `tile`,
-/// row by row, its film entries (its slice of `film`, row-major over the
-/// tile) and its lane count. Returns what was traced.
+/// row by row, the index of its first pixel in the tile (row-major) and
+/// its lane count. Returns what was traced.
 #[inline(always)]
 fn for_each_group<S: Sampler + Clone>(
     scene: &Scene<'_>,
@@ -270,8 +277,7 @@ fn for_each_group<S: Sampler + Clone>(
     sampler: &S,
     settings: &RenderSettings,
     tile: Tile,
-    film: &mut [PixelSum],
-    mut f: impl FnMut(&mut Group<'_, '_, '_, S>, &mut [PixelSum], usize),
+    mut f: impl FnMut(&mut Group<'_, '_, '_, S>, usize, usize),
 ) -> TileStats {
     let mut lanes: [S; 8] = core::array::from_fn(|_| sampler.clone());
     // Zeroed once per tile, not per ray.
@@ -292,7 +298,7 @@ fn for_each_group<S: Sampler + Clone>(
                 spacing,
                 lanes: &mut lanes,
             };
-            f(&mut group, &mut film[at..at + n], n);
+            f(&mut group, at, n);
             col += n as u32;
         }
     }
@@ -374,15 +380,15 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
         sampler,
         settings,
         tile,
-        film,
-        |group, film, n| {
+        |group, at, n| {
+            let film = &mut film[at..at + n];
             // Each lane's pilot halves and rest, and the halves' statistics.
             let mut parts = [[PixelSum::ZERO; 3]; 8];
             let mut pilots = [[PilotStats::ZERO; 2]; 8];
             let all = [0usize, 1, 2, 3, 4, 5, 6, 7];
             for index in 0..2 * b {
                 let h = (index / b) as usize;
-                group.trace(&all[..n], index, |l, v, w, rays| {
+                group.trace(&all[..n], index, |l, v, w, rays, _| {
                     parts[l][h].add_weighted(v, w);
                     pilots[l][h].add(v, w, rays);
                 });
@@ -416,7 +422,7 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
                     }
                 }
                 m = kept;
-                group.trace(&ids[..m], index, |l, v, w, _| {
+                group.trace(&ids[..m], index, |l, v, w, _, _| {
                     parts[l][2].add_weighted(v, w)
                 });
             }
@@ -429,6 +435,112 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
                 // Written, not added: a blend's `weight` is 2²⁴·n, not a
                 // filter-weight sum, so it does not merge with one.
                 film[l] = blended;
+            }
+        },
+    ))
+}
+
+/// The film a splatted render of `tile` fills: the tile and a margin of
+/// [`PixelFilter::splat_margin`](crate::filter::PixelFilter::splat_margin)
+/// pixels on every side, `(width + 2m) × (height + 2m)` entries row-major
+/// from pixel `(x0 − m, y0 − m)` (which may lie outside the image: such
+/// entries are the caller's to drop). `None` if that overflows.
+///
+/// ```
+/// use strata::filter::{FilterKind, PixelFilter};
+/// use strata::render::{Tile, splat_film_size};
+/// let mitchell = PixelFilter::new(FilterKind::named("mitchell").unwrap(), 2.0).unwrap();
+/// let t = Tile { x0: 8, y0: 0, width: 16, height: 4 };
+/// assert_eq!(splat_film_size(&mitchell, t), Some((20, 8)));
+/// ```
+#[inline]
+#[must_use]
+pub fn splat_film_size(filter: &crate::filter::PixelFilter, tile: Tile) -> Option<(u32, u32)> {
+    let m2 = filter.splat_margin().checked_mul(2)?;
+    Some((tile.width.checked_add(m2)?, tile.height.checked_add(m2)?))
+}
+
+/// Renders samples `samples` of every pixel of `tile` and splats each into
+/// the pixels its filter (`settings.filter`) reaches, adding to `film`,
+/// the tile and its margin ([`splat_film_size`]): a sample at `x`, with
+/// radiance `L`, adds `f(x − c)·L` and `f(x − c)` to every pixel of
+/// centre `c` within the filter's radius, and counts as a sample of its
+/// own pixel only ([`PixelSum::add_splat`]). Positions are uniform in the
+/// pixel (the box's), and the tracing is the box render's. A pixel's value
+/// `Σ f·L / Σ f` gathers every sample near it, and where radiance is
+/// constant it is that constant whatever the weights' signs.
+///
+/// Sums are exact integers, so films of tiles, threads and sample runs
+/// add to the same bits in any order; a pixel near a tile's edge gets its
+/// value once the neighbouring tiles' margins are added.
+#[inline]
+pub fn render_tile_splat<S: Sampler + Clone>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+    samples: Range<u32>,
+    film: &mut [PixelSum],
+) -> Result<TileStats, RenderError> {
+    let filter = settings.filter;
+    let (pw, ph) = splat_film_size(&filter, tile).ok_or(RenderError::Tile)?;
+    let needed = pw as usize * ph as usize;
+    check_tile(camera, settings, tile, tile.area())?;
+    if film.len() != needed {
+        return Err(RenderError::FilmSize {
+            needed,
+            provided: film.len(),
+        });
+    }
+    let (m, pw) = (filter.splat_margin() as usize, pw as usize);
+    let side = 2 * m + 1;
+    // Positions come from the box, so the tracing is the box render's.
+    let boxed = RenderSettings {
+        filter: crate::filter::PixelFilter::BOX,
+        ..*settings
+    };
+    const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    const MOST: usize = 2 * crate::filter::FILTER_MAX_RADIUS as usize + 1;
+    let width = tile.width as usize;
+    Ok(for_each_group(
+        scene,
+        camera,
+        sampler,
+        &boxed,
+        tile,
+        |group, at, n| {
+            // The group's first pixel's top-left splat target in the
+            // padded film (its own pixel is m further right and down).
+            let (gx, gy) = (at % width, at / width);
+            for index in samples.clone() {
+                group.trace(&ALL[..n], index, |l, v, _, _, u| {
+                    let own = (gy + m) * pw + gx + l + m;
+                    if !v.is_finite() {
+                        // Counted as dropped by its own pixel only.
+                        film[own].add_splat(v, 1.0, true);
+                        return;
+                    }
+                    // The filter per axis at the centres around the pixel:
+                    // the centre `d − m` pixels away is `u − ½ − (d − m)`
+                    // from the sample.
+                    let (mut fx, mut fy) = ([0.0f32; MOST], [0.0f32; MOST]);
+                    for d in 0..side {
+                        let off = d as f32 - m as f32;
+                        fx[d] = filter.eval_axis(u.x - 0.5 - off);
+                        fy[d] = filter.eval_axis(u.y - 0.5 - off);
+                    }
+                    for (dy, &wy) in fy[..side].iter().enumerate() {
+                        let row = (gy + dy) * pw + gx + l;
+                        for (dx, &wx) in fx[..side].iter().enumerate() {
+                            let f = wx * wy;
+                            let at = row + dx;
+                            if f != 0.0 || at == own {
+                                film[at].add_splat(v, f, at == own);
+                            }
+                        }
+                    }
+                });
             }
         },
     ))
