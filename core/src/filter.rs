@@ -1,12 +1,16 @@
-//! Pixel reconstruction filters, applied by filter importance sampling.
+//! Pixel reconstruction filters, applied by filter importance sampling or,
+//! for filters with negative lobes, by splatting.
 //!
 //! A pixel's value is `∫ f(x) L(p + x) dx` for a filter `f` that
-//! integrates to 1. Rather than splatting each sample into every pixel
-//! the filter reaches, which couples neighbouring pixels and so tiles,
+//! integrates to 1. A filter that is never negative is importance-sampled:
 //! each sample's offset from the pixel centre is drawn with a density
 //! `pdf ∝ |f|` and the radiance weighted by `f / pdf` (pbrt-v4's
-//! approach). A pixel then depends only on its own samples, so tiles,
-//! threads and split runs stay exact.
+//! approach), so a pixel depends only on its own samples. A filter with
+//! negative lobes ([`PixelFilter::splats`]) would give weights whose sign
+//! changes at random, and a pixel of few samples whose weights sum near
+//! zero; renders splat it instead
+//! ([`render_tile_splat`](crate::render::render_tile_splat)), and the
+//! importance sampling below serves adaptive renders and callers.
 //!
 //! - Box and tent are sampled exactly: the weight is 1.
 //! - The others (Gaussian, Mitchell–Netravali, Lanczos, Blackman–Harris)
@@ -272,9 +276,13 @@ impl PixelFilter {
         if !(integral.abs() > 1e-12 && integral.is_finite()) {
             return Err(FilterError::Zero);
         }
-        // The profile on a fine grid of [0, r]: its negative lobes are
-        // wider than a grid step for every kind and parameter accepted.
-        let negative = (0..=1024).any(|i| kind.profile(radius, radius * i as f32 / 1024.0) < 0.0);
+        // The profile on a fine grid of [0, r], against a tolerance for
+        // `f32` zeros (Lanczos's sinf(π) is −9e-8): a lobe narrower than a
+        // grid step (Mitchell with C below about 3e-4) is not seen, and
+        // that filter is importance-sampled as before.
+        let peak = kind.profile(radius, 0.0).abs();
+        let negative =
+            (0..=1024).any(|i| kind.profile(radius, radius * i as f32 / 1024.0) < -1e-6 * peak);
         let mut filter = Self {
             kind,
             radius,

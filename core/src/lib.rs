@@ -33,7 +33,7 @@
 //! | [`onb`] | orthonormal bases: Duff et al. (default) and the course's |
 //! | [`trace`] | rays and spheres: scalar, 1×8 and 8-ray packet closest/any hit, same bits on every path; [`trace::simd_level`] |
 //! | [`render`] | camera, textures, materials, sphere lights, [`render::Scene::build`], the exact film, the path tracer and tiles ([`render::render_tile`]) |
-//! | [`filter`] | pixel filters applied by importance sampling |
+//! | [`filter`] | pixel filters, importance-sampled or (negative lobes) splatted |
 //!
 //! ## Example
 //!

@@ -40,8 +40,8 @@ pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
 pub use tile::{
-    RenderError, Tile, TileStats, render_tile, render_tile_adaptive, render_tile_splat,
-    splat_film_size,
+    RenderError, SPLAT_SIDE, Splat, Tile, TileStats, render_tile, render_tile_adaptive,
+    render_tile_splat, splat_film_size,
 };
 
 /// The revision of what renders compute: raised whenever a change alters
@@ -49,4 +49,4 @@ pub use tile::{
 /// locks in `std-runner/tests/output_locks.rs` fail then, and say to
 /// raise it), never for new outputs. Film files and caches of rendered
 /// results (e.g. `strata converge`'s references) key on it.
-pub const OUTPUT_REVISION: u32 = 4;
+pub const OUTPUT_REVISION: u32 = 5;

@@ -316,7 +316,9 @@ fn flat_regions_stop_at_the_minimum_whatever_the_filter() {
     // (|Σ w| < n/4 over its 4 samples) sees the weights' noise and goes
     // on: measured at 3 of 569 sky pixels for Mitchell and 35 of 524 for
     // Lanczos (whose lobes are larger), held at 2 % and 15 %. Sky pixels
-    // are found by a probe at depth 1 over the same sample positions.
+    // are found by a probe at depth 1: a uniform render, which splats
+    // these filters, is exactly 1 where every sample within the filter's
+    // reach saw sky, which covers the adaptive render's offsets too.
     let flat = strata_runner::scenes::file::parse(
         std::path::Path::new("sky.toml"),
         &SKY_AND_SPHERE.replace("\"sky\"", "[1.0, 1.0, 1.0]"),

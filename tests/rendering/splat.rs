@@ -199,9 +199,11 @@ fn splatted_renders_are_the_same_for_any_threads_tiles_and_sample_runs() {
 }
 
 #[test]
-fn the_box_splatted_is_the_box_rendered() {
+fn the_box_splatted_is_the_box_rendered_to_the_splats_precision() {
     // render_tile_splat with the box (margin 0) adds each sample to its own
-    // pixel with weight 1: the same bits as render_tile.
+    // pixel with weight 1, as render_tile does, but with its radiance in
+    // the splat's fixed point (2⁻¹⁸ rather than the film's 2⁻²⁴): the same
+    // counts and weights, and means within 2⁻¹⁸.
     use strata::render::{
         Camera, RenderSettings, TextureFilter, render_tile, render_tile_splat, splat_film_size,
     };
@@ -228,7 +230,15 @@ fn the_box_splatted_is_the_box_rendered() {
         assert_eq!(sa, sb);
     })
     .unwrap();
-    assert!(a == b);
+    for (p, q) in a.iter().zip(&b) {
+        assert_eq!(
+            (p.samples, p.dropped, p.weight),
+            (q.samples, q.dropped, q.weight)
+        );
+        let d = (p.mean() - q.mean()).abs().max_element();
+        assert!(d <= 1.0 / 262_144.0, "{d:e}");
+    }
+    assert!(a != b, "the radiance is quantised differently");
     // A film of the wrong size is refused before anything is traced.
     let mitchell = RenderSettings {
         filter: filter("mitchell"),
@@ -246,4 +256,74 @@ fn the_box_splatted_is_the_box_rendered() {
         })
     );
     assert!(small.iter().all(|p| *p == PixelSum::ZERO));
+}
+
+#[test]
+fn a_splatted_image_is_every_sample_added_where_its_filter_reaches() {
+    // Recomputed in gather order from single samples: each pixel's samples
+    // (radiance and position, traced with the box) splatted by `Splat`
+    // into the pixels around it. A wrong sign, an x/y swap or a missing
+    // margin row changes pixels at once; integer sums make order moot.
+    use glam::UVec2;
+    use strata::Sampler;
+    use strata::render::{Camera, RenderSettings, Splat, TextureFilter, pixel_sample};
+    let data = built_in("cover").unwrap();
+    let (w, h, spp) = (14u32, 9u32, 4u32);
+    let f = PixelFilter::new(FilterKind::named("lanczos").unwrap(), 2.5).unwrap();
+    let job = Job {
+        sampler: SamplerKind::Sobol,
+        seed: 11,
+        filter: f,
+        max_depth: 4,
+        ..Job::new(&data, w, h, spp)
+    };
+    let got = run(&job, &|_| {}).unwrap().pixels;
+    let camera = Camera::new(&data.camera, w, h).unwrap();
+    let settings = RenderSettings {
+        max_depth: 4,
+        direct_lighting: true,
+        filter: PixelFilter::BOX,
+        texture_filter: TextureFilter::None,
+    };
+    let m = f.splat_margin() as i64;
+    assert_eq!(m, 2);
+    let mut want = vec![PixelSum::ZERO; (w * h) as usize];
+    let sampler = strata::Sobol::new(spp, 11).unwrap();
+    data.with_scene(|scene| {
+        for py in 0..h {
+            for px in 0..w {
+                let p = UVec2::new(px, py);
+                for i in 0..spp {
+                    let mut s = sampler.clone();
+                    s.start_pixel_sample(p, i);
+                    let u = s.pixel_2d();
+                    let (l, _) = pixel_sample(scene, &camera, &mut s, &settings, p, i);
+                    let splat = Splat::new(&f, u, l).unwrap();
+                    for dy in 0..=2 * m {
+                        for dx in 0..=2 * m {
+                            let (qx, qy) = (px as i64 + dx - m, py as i64 + dy - m);
+                            if (0..w as i64).contains(&qx) && (0..h as i64).contains(&qy) {
+                                let q = &mut want[(qy * w as i64 + qx) as usize];
+                                splat.add_to(q, dx as usize, dy as usize, dx == m && dy == m);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    })
+    .unwrap();
+    assert!(got == want);
+    // And the image is not trivially the box's.
+    let boxed = run(
+        &Job {
+            filter: PixelFilter::BOX,
+            ..job
+        },
+        &|_| {},
+    )
+    .unwrap()
+    .pixels;
+    assert!(got.iter().zip(&boxed).all(|(a, b)| a.samples == b.samples));
+    assert!(got != boxed);
 }

@@ -18,7 +18,12 @@
 //! and the pixel's value is `Σ w·L / Σ w` (pbrt-v4's film): for the box
 //! and tent, whose weights are exactly 1, that is the plain mean; for
 //! filters with negative lobes it keeps the weights' noise out of flat
-//! regions. Both sums are exact, so merges stay exact.
+//! regions. Both sums are exact, so merges stay exact. A splatted pixel
+//! ([`Splat`](super::Splat)) gathers `f·L` and `f` from every sample
+//! within the filter's reach, up to `(2m + 1)²` per sample of its own, so
+//! it saturates that much sooner; once a sum saturates, the order of
+//! additions can matter (so far above any radiance a scene shows that
+//! no test reaches it).
 
 use glam::Vec3;
 
@@ -33,9 +38,8 @@ pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
 /// `roundf`), exact and the same on every CPU: the scaling is by a power
 /// of two, `as i64` truncates, and `y − trunc(y)` is exact for an `f32`
 /// `y` (both are `f32`s of the same binade or below), so the comparison
-/// with ½ decides the rounding exactly. (A splatted sample rounds up to
-/// 4 × 49 values, so this is on the hot path; `libm::roundf` is a
-/// software routine.) NaN is never passed (the film drops it first).
+/// with ½ decides the rounding exactly. (Every sample of the film goes
+/// through it; `libm::roundf` is a software routine.) NaN is never passed (the film drops it first).
 #[inline]
 #[must_use]
 pub(crate) fn to_fixed(x: f32) -> i64 {
@@ -116,39 +120,6 @@ impl PixelSum {
         }
         self.weight = self.weight.saturating_add(to_fixed(w));
         self.samples = self.samples.saturating_add(1);
-    }
-
-    /// Adds a splatted sample: radiance `l` with filter value `f` (`f·l`
-    /// to the sum and `f` to the weight), counted as one of this pixel's
-    /// samples if `own` (a sample of a neighbouring pixel adds its sums
-    /// only). A sample with a channel that is not finite is counted as
-    /// dropped by its own pixel and adds nothing anywhere.
-    ///
-    /// ```
-    /// use glam::Vec3;
-    /// use strata::render::PixelSum;
-    /// let mut p = PixelSum::ZERO;
-    /// p.add_splat(Vec3::splat(0.5), 0.75, true);
-    /// p.add_splat(Vec3::splat(0.5), -0.125, false); // a neighbour's sample
-    /// assert_eq!(p.samples, 1);
-    /// assert_eq!(p.mean(), Vec3::splat(0.5)); // flat: exact whatever the weights
-    /// ```
-    #[inline]
-    pub fn add_splat(&mut self, l: Vec3, f: f32, own: bool) {
-        let v = l * f;
-        if !(l.is_finite() && v.is_finite() && f.is_finite()) {
-            if own {
-                self.dropped = self.dropped.saturating_add(1);
-            }
-            return;
-        }
-        for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
-            *s = s.saturating_add(to_fixed(x));
-        }
-        self.weight = self.weight.saturating_add(to_fixed(f));
-        if own {
-            self.samples = self.samples.saturating_add(1);
-        }
     }
 
     /// Adds another accumulator of the same pixel: exact, commutative and

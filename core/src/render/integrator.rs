@@ -64,7 +64,10 @@ pub struct RenderSettings {
     pub direct_lighting: bool,
     /// The pixel filter, applied by importance sampling: each sample's
     /// offset is drawn from it and its radiance weighted by `f / pdf`
-    /// ([`PixelFilter::BOX`] is the course's: weight 1).
+    /// ([`PixelFilter::BOX`] is the course's: weight 1). `render_tile`
+    /// and `pixel_sample` importance-sample every filter; a filter that
+    /// [splats](PixelFilter::splats) is meant for
+    /// [`render_tile_splat`](super::render_tile_splat).
     pub filter: PixelFilter,
     /// Texture filtering at camera rays' first hits ([`TextureFilter::None`]
     /// is the course's point sampling). With [`TextureFilter::Box`] the

@@ -1,13 +1,16 @@
 //! Tiles: rectangles of the image rendered into the caller's film, one
 //! group of up to 8 neighbouring pixels at a time so camera rays travel as
-//! packets; uniformly ([`render_tile`]) or adaptively
-//! ([`render_tile_adaptive`]). A pixel's value depends only on its own
-//! samples, so tiles, their order and threads never change a bit.
+//! packets; uniformly ([`render_tile`]), adaptively
+//! ([`render_tile_adaptive`]) or splatting a filter with negative lobes
+//! ([`render_tile_splat`]). With the first two a pixel's value depends
+//! only on its own samples; splatted, on the samples within the filter's
+//! reach, added as exact integers. Either way tiles, their order and
+//! threads never change a bit.
 
 use super::RenderSettings;
 use super::adaptive::{Adaptive, PilotStats};
 use super::camera::Camera;
-use super::film::PixelSum;
+use super::film::{MAX_SAMPLE_VALUE, PixelSum};
 use super::integrator::{Scratch, camera_ray, differential_spacing, trace_path};
 use super::scene::Scene;
 use crate::sampler::Sampler;
@@ -112,7 +115,8 @@ impl core::fmt::Display for RenderError {
             ),
             RenderError::FilmSize { needed, provided } => write!(
                 f,
-                "the film has {provided} entries for a tile of {needed} pixels"
+                "the film has {provided} entries where the tile needs {needed} (its pixels, and \
+                 a splatted filter's margin)"
             ),
         }
     }
@@ -440,6 +444,112 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
     ))
 }
 
+/// The most pixels a splat reaches along an axis: `2m + 1` for the
+/// largest margin, that of [`FILTER_MAX_RADIUS`](crate::filter::FILTER_MAX_RADIUS).
+pub const SPLAT_SIDE: usize = 2 * crate::filter::FILTER_MAX_RADIUS as usize + 1;
+// The margin of the largest radius is ⌈r + ½⌉ − 1 = r for an integer r.
+const _: () = assert!(crate::filter::FILTER_MAX_RADIUS == 8.0);
+
+/// Fixed-point scale of a splat's filter values: `2⁻¹²` per axis, so
+/// their product is in the film's units of `2⁻²⁴`.
+const SPLAT_FILTER_SCALE: f32 = 4096.0;
+/// Fixed-point scale of a splatted radiance: `2⁻¹⁸`.
+const SPLAT_RADIANCE_SCALE: f32 = 262_144.0;
+
+/// One splatted sample in fixed point: its radiance (clamped to
+/// `±MAX_SAMPLE_VALUE`, in units of `2⁻¹⁸`) and the filter per axis at
+/// the centres around its pixel (units of `2⁻¹²`). A target pixel `(dx,
+/// dy)` of the `(2m + 1)²` around it (its own at `(m, m)`) gets the
+/// weight `Fx·Fy` (units `2⁻²⁴`, the film's) and the sums `Fx·Fy·L`
+/// rounded to the film's units, all in integers: each target costs a few
+/// integer multiplies instead of four float roundings, and the bits are
+/// the same on every CPU and in any order of addition.
+///
+/// ```
+/// use glam::{Vec2, Vec3};
+/// use strata::filter::{FilterKind, PixelFilter};
+/// use strata::render::{PixelSum, Splat};
+/// let mitchell = PixelFilter::new(FilterKind::named("mitchell").unwrap(), 2.0).unwrap();
+/// let s = Splat::new(&mitchell, Vec2::splat(0.5), Vec3::splat(0.25)).unwrap();
+/// let mut own = PixelSum::ZERO;
+/// s.add_to(&mut own, 2, 2, true); // the centre of the 5 × 5 it reaches
+/// assert_eq!(own.samples, 1);
+/// // f·L is rounded to the film's 2⁻²⁴: within a unit of the radiance.
+/// assert!((own.mean() - Vec3::splat(0.25)).abs().max_element() < 1e-6);
+/// assert!(Splat::new(&mitchell, Vec2::ZERO, Vec3::NAN).is_none());
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Splat {
+    l: [i64; 3],
+    fx: [i64; SPLAT_SIDE],
+    fy: [i64; SPLAT_SIDE],
+}
+
+impl Splat {
+    /// The splat of radiance `l` at offset `u` (from the pixel's corner,
+    /// in `[0, 1)²`) under `filter`; `None` if `l` is not finite.
+    #[inline]
+    #[must_use]
+    pub fn new(filter: &crate::filter::PixelFilter, u: Vec2, l: Vec3) -> Option<Splat> {
+        if !l.is_finite() {
+            return None;
+        }
+        let fixed = |x: f32, scale: f32| {
+            // As the film's `to_fixed`: round half away from zero, exact.
+            let y = x * scale;
+            let t = y as i64;
+            let frac = y - t as f32;
+            t + (frac >= 0.5) as i64 - (frac <= -0.5) as i64
+        };
+        let lc = l.clamp(
+            Vec3::splat(-MAX_SAMPLE_VALUE),
+            Vec3::splat(MAX_SAMPLE_VALUE),
+        );
+        let m = filter.splat_margin() as usize;
+        let (mut fx, mut fy) = ([0; SPLAT_SIDE], [0; SPLAT_SIDE]);
+        // The centre `d − m` pixels away is `u − ½ − (d − m)` from the
+        // sample.
+        for d in 0..=2 * m {
+            let off = d as f32 - m as f32;
+            fx[d] = fixed(filter.eval_axis(u.x - 0.5 - off), SPLAT_FILTER_SCALE);
+            fy[d] = fixed(filter.eval_axis(u.y - 0.5 - off), SPLAT_FILTER_SCALE);
+        }
+        Some(Splat {
+            l: lc.to_array().map(|c| fixed(c, SPLAT_RADIANCE_SCALE)),
+            fx,
+            fy,
+        })
+    }
+
+    /// The weight the target `(dx, dy)` gets, in the film's units.
+    #[inline]
+    #[must_use]
+    pub fn weight(&self, dx: usize, dy: usize) -> i64 {
+        self.fx[dx].saturating_mul(self.fy[dy])
+    }
+
+    /// Adds the splat to target `(dx, dy)`'s accumulator, counting it as
+    /// one of that pixel's samples if `own`.
+    #[inline]
+    pub fn add_to(&self, pixel: &mut PixelSum, dx: usize, dy: usize, own: bool) {
+        let f = self.weight(dx, dy);
+        if f != 0 {
+            for (s, l) in pixel.sum.iter_mut().zip(self.l) {
+                // f·L in units of 2⁻⁴², rounded (half up) to 2⁻²⁴. With
+                // |L| ≤ 2¹⁶ (2³⁴ units) it fits an i64 while |f| < 32
+                // (2²⁹ units), true of every usual filter; beyond, it
+                // saturates.
+                let v = f.saturating_mul(l).saturating_add(1 << 17) >> 18;
+                *s = s.saturating_add(v);
+            }
+            pixel.weight = pixel.weight.saturating_add(f);
+        }
+        if own {
+            pixel.samples = pixel.samples.saturating_add(1);
+        }
+    }
+}
+
 /// The film a splatted render of `tile` fills: the tile and a margin of
 /// [`PixelFilter::splat_margin`](crate::filter::PixelFilter::splat_margin)
 /// pixels on every side, `(width + 2m) × (height + 2m)` entries row-major
@@ -464,11 +574,14 @@ pub fn splat_film_size(filter: &crate::filter::PixelFilter, tile: Tile) -> Optio
 /// the pixels its filter (`settings.filter`) reaches, adding to `film`,
 /// the tile and its margin ([`splat_film_size`]): a sample at `x`, with
 /// radiance `L`, adds `f(x − c)·L` and `f(x − c)` to every pixel of
-/// centre `c` within the filter's radius, and counts as a sample of its
-/// own pixel only ([`PixelSum::add_splat`]). Positions are uniform in the
+/// centre `c` within the filter's radius, in fixed point ([`Splat`]), and
+/// counts as a sample of its own pixel only (a sample that is not finite
+/// counts as dropped there and adds nothing). Positions are uniform in the
 /// pixel (the box's), and the tracing is the box render's. A pixel's value
 /// `Σ f·L / Σ f` gathers every sample near it, and where radiance is
-/// constant it is that constant whatever the weights' signs.
+/// constant it is that constant whatever the weights' signs, to the
+/// fixed point's rounding of each product (exactly for radiance 1, as
+/// `horizon`'s sky: each product is then an integer).
 ///
 /// Sums are exact integers, so films of tiles, threads and sample runs
 /// add to the same bits in any order; a pixel near a tile's edge gets its
@@ -495,13 +608,13 @@ pub fn render_tile_splat<S: Sampler + Clone>(
     }
     let (m, pw) = (filter.splat_margin() as usize, pw as usize);
     let side = 2 * m + 1;
+    debug_assert!(side <= SPLAT_SIDE);
     // Positions come from the box, so the tracing is the box render's.
     let boxed = RenderSettings {
         filter: crate::filter::PixelFilter::BOX,
         ..*settings
     };
     const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-    const MOST: usize = 2 * crate::filter::FILTER_MAX_RADIUS as usize + 1;
     let width = tile.width as usize;
     Ok(for_each_group(
         scene,
@@ -516,28 +629,15 @@ pub fn render_tile_splat<S: Sampler + Clone>(
             for index in samples.clone() {
                 group.trace(&ALL[..n], index, |l, v, _, _, u| {
                     let own = (gy + m) * pw + gx + l + m;
-                    if !v.is_finite() {
+                    let Some(splat) = Splat::new(&filter, u, v) else {
                         // Counted as dropped by its own pixel only.
-                        film[own].add_splat(v, 1.0, true);
+                        film[own].dropped = film[own].dropped.saturating_add(1);
                         return;
-                    }
-                    // The filter per axis at the centres around the pixel:
-                    // the centre `d − m` pixels away is `u − ½ − (d − m)`
-                    // from the sample.
-                    let (mut fx, mut fy) = ([0.0f32; MOST], [0.0f32; MOST]);
-                    for d in 0..side {
-                        let off = d as f32 - m as f32;
-                        fx[d] = filter.eval_axis(u.x - 0.5 - off);
-                        fy[d] = filter.eval_axis(u.y - 0.5 - off);
-                    }
-                    for (dy, &wy) in fy[..side].iter().enumerate() {
+                    };
+                    for dy in 0..side {
                         let row = (gy + dy) * pw + gx + l;
-                        for (dx, &wx) in fx[..side].iter().enumerate() {
-                            let f = wx * wy;
-                            let at = row + dx;
-                            if f != 0.0 || at == own {
-                                film[at].add_splat(v, f, at == own);
-                            }
+                        for dx in 0..side {
+                            splat.add_to(&mut film[row + dx], dx, dy, row + dx == own);
                         }
                     }
                 });
