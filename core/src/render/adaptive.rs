@@ -22,7 +22,8 @@
 //! `r_B` B's). Each part's weight and length depend only on samples
 //! outside it, so each term is unbiased and so is the pixel: exactly for
 //! independent samples under filter weights of 1 (box, tent). Two things
-//! bend it, both measured in the README:
+//! bend it (the first is measured in the README and tested on
+//! `caustics`):
 //! - samplers that stratify a pixel's samples jointly (stratified, the
 //!   Sobol' family, Halton) make the parts slightly dependent;
 //! - under a filter whose weights vary, each part's mean is the film's
