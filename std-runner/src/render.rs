@@ -170,6 +170,15 @@ impl<'a> Job<'a> {
     }
 }
 
+impl Job<'_> {
+    /// Whether the job splats its filter (one with negative lobes, not
+    /// adaptive): its tiles then fill films with a margin.
+    #[must_use]
+    pub fn splats(&self) -> bool {
+        self.filter.splats() && self.adaptive.is_none()
+    }
+}
+
 /// A finished render.
 #[derive(Debug)]
 pub struct Rendered {
@@ -220,7 +229,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
              the grid fills its rows in order"
         ));
     }
-    let splat = job.filter.splats() && job.adaptive.is_none();
+    let splat = job.splats();
     if splat && w != Tile::whole(job.width, job.height) {
         return Err(anyhow!(
             "the {} filter is splatted: each sample reaches pixels up to {} away, so a render \
@@ -338,15 +347,14 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
     // A splatted tile's film has a margin of m pixels a side: tiles of at
     // least 4m keep it within 2.25 times the tile (the side changes speed,
     // never the image).
-    let side = match job.filter.splats() && job.adaptive.is_none() {
+    let side = match job.splats() {
         true => job.tile.max(4 * job.filter.splat_margin()),
         false => job.tile,
     };
     tiles(job.window, side)
         .into_par_iter()
         .map(|tile| {
-            let splat = job.filter.splats() && job.adaptive.is_none();
-            let (pw, ph) = match splat {
+            let (pw, ph) = match job.splats() {
                 true => splat_film_size(&job.filter, tile)
                     .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))?,
                 false => (tile.width, tile.height),
@@ -356,24 +364,15 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
                 Some(a) => {
                     render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
                 }
-                None if splat => render_tile_splat(
-                    scene,
-                    camera,
-                    &sampler,
-                    settings,
-                    tile,
-                    job.samples.clone(),
-                    &mut film,
-                ),
-                None => render_tile(
-                    scene,
-                    camera,
-                    &sampler,
-                    settings,
-                    tile,
-                    job.samples.clone(),
-                    &mut film,
-                ),
+                None => {
+                    // The two uniform renderers take the same arguments.
+                    let uniform = match job.splats() {
+                        true => render_tile_splat::<S>,
+                        false => render_tile::<S>,
+                    };
+                    let samples = job.samples.clone();
+                    uniform(scene, camera, &sampler, settings, tile, samples, &mut film)
+                }
             }
             .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
             progress(tile.area() as u64);

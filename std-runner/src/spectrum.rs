@@ -235,7 +235,7 @@ impl ErrorSpectrum {
     pub fn add(&mut self, image: &[Vec3], reference: &[Vec3]) {
         let n = self.width * self.height;
         assert!(image.len() == n && reference.len() == n, "image size");
-        let lum = |c: Vec3| 0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64;
+        let lum = crate::study::luminance;
         let mut e: Vec<f64> = image
             .iter()
             .zip(reference)

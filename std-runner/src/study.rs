@@ -20,6 +20,12 @@ use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 
 pub mod adaptive;
 
+/// Rec. 709 luminance in `f64`, as the studies and spectra measure it.
+#[must_use]
+pub fn luminance(v: Vec3) -> f64 {
+    0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64
+}
+
 /// Root mean square error over pixels and RGB channels, in f64.
 ///
 /// # Panics

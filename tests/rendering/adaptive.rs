@@ -181,10 +181,7 @@ fn adaptive_and_uniform(
     (min, max, threshold): (u32, u32, f32),
     (k, sampler): (u64, SamplerKind),
 ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>, u32) {
-    let lum = |p: &PixelSum| {
-        let m = p.mean();
-        0.2126 * m.x as f64 + 0.7152 * m.y as f64 + 0.0722 * m.z as f64
-    };
+    let lum = |p: &PixelSum| strata_runner::study::luminance(p.mean());
     let mut a = vec![Vec::new(); window.area()];
     let mut u = vec![Vec::new(); window.area()];
     let mut spent = 0u64;

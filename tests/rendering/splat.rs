@@ -10,14 +10,11 @@ use strata::render::{PixelSum, Tile};
 use strata_runner::film::{Film, RenderKey, merge};
 use strata_runner::render::{Job, SamplerKind, run};
 use strata_runner::scenes::built_in;
+use strata_runner::study::luminance;
 
 fn filter(name: &str) -> PixelFilter {
     let k = FilterKind::named(name).unwrap();
     PixelFilter::new(k, k.default_radius()).unwrap()
-}
-
-fn luminance(v: Vec3) -> f64 {
-    0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64
 }
 
 #[test]

@@ -18,7 +18,7 @@ use anyhow::{Result, bail};
 use glam::Vec3;
 use strata::render::Adaptive;
 
-use super::View;
+use super::{View, luminance};
 use crate::bench::harness::process_cpu_seconds;
 use crate::limits::MAX_STUDY_SPP;
 use crate::render::{Job, SamplerKind, run};
@@ -28,11 +28,6 @@ pub const REL_EPSILON: f64 = 0.01;
 
 /// How many times the adaptive mean spp the reference takes.
 pub const REFERENCE_FACTOR: f64 = 64.0;
-
-/// Rec. 709 luminance in `f64`.
-fn luminance(v: Vec3) -> f64 {
-    0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64
-}
 
 /// The relative MSE over pixels and channels: `(x − r)² / (r² + ε)`.
 ///
@@ -80,6 +75,16 @@ pub struct Row {
     pub rmse: f64,
     /// Mean over seeds of the relMSE.
     pub rel_mse: f64,
+}
+
+impl Row {
+    /// `adaptive`, or `uniform` and the spp joined by `sep`.
+    fn name(&self, sep: &str) -> String {
+        match self.uniform_spp {
+            None => "adaptive".to_string(),
+            Some(n) => format!("uniform{sep}{n}"),
+        }
+    }
 }
 
 /// The study's result.
@@ -133,10 +138,7 @@ impl Report {
             self.seeds, self.reference_spp, "run", "spp/px", "rays/px", "CPU s", "RMSE", "relMSE"
         );
         for r in std::iter::once(&self.adaptive).chain(&self.uniform) {
-            let name = match r.uniform_spp {
-                None => "adaptive".to_string(),
-                Some(s) => format!("uniform {s}"),
-            };
+            let name = r.name(" ");
             write!(
                 t,
                 "\n{name:<14} {:>9.2} {:>10.1} {:>9.2} {:>11.4e} {:>11.4e}",
@@ -189,10 +191,7 @@ impl Report {
     pub fn csv(&self) -> String {
         let mut s = String::from("run,spp,rays_per_pixel,cpu_seconds,rmse,rel_mse\n");
         for r in std::iter::once(&self.adaptive).chain(&self.uniform) {
-            let name = match r.uniform_spp {
-                None => "adaptive".to_string(),
-                Some(n) => format!("uniform{n}"),
-            };
+            let name = r.name("");
             writeln!(
                 s,
                 "{name},{},{},{},{},{}",
