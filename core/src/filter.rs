@@ -173,6 +173,27 @@ impl FilterKind {
     }
 }
 
+/// `(sin πx, cos πx)` for `|x| ≤ ½` by their Taylor polynomials to
+/// degree 11 and 12 (truncation below 6·10⁻⁸), in plain `f32`
+/// multiplies and adds: the same bits on every CPU, for a fraction of a
+/// libm call.
+#[inline]
+fn sin_cos_pi(x: f32) -> (f32, f32) {
+    debug_assert!(x.abs() <= 0.5);
+    let x2 = x * x;
+    let sin = x
+        * (PI
+            + x2 * (-5.167_712_8
+                + x2 * (2.550_164
+                    + x2 * (-0.599_264_5 + x2 * (0.082_145_89 + x2 * -0.007_370_431)))));
+    let cos = 1.0
+        + x2 * (-4.934_802
+            + x2 * (4.058_712
+                + x2 * (-1.335_262_8
+                    + x2 * (0.235_330_63 + x2 * (-0.025_806_89 + x2 * 0.001_929_574_3)))));
+    (sin, cos)
+}
+
 fn sinc(x: f32) -> f32 {
     if x.abs() < 1e-5 {
         return 1.0;
@@ -230,7 +251,48 @@ pub struct PixelFilter {
     negative: bool,
     /// `1 / ∫ f₁`: the 1-D normalisation.
     norm: f32,
+    /// What [`PixelFilter::eval_taps`] needs per tap.
+    taps: Taps,
     table: Option<PiecewiseConstant2D>,
+}
+
+/// The most taps a splat has along an axis: `2m + 1` for the margin of
+/// the largest radius.
+pub(crate) const TAPS: usize = 2 * FILTER_MAX_RADIUS as usize + 1;
+
+/// Per tap `d` of a splat row, offset `k = d − m` pixels (`m` the splat
+/// margin): `k`, and for Lanczos `(−1)ᵏ`, `cos πk/τ` and `sin πk/τ`.
+/// Taps beyond `2m` have `k` = 10⁹, so their offset is beyond any radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Taps {
+    k: [f32; TAPS],
+    sign: [f32; TAPS],
+    cos: [f32; TAPS],
+    sin: [f32; TAPS],
+}
+
+impl Taps {
+    const NONE: Taps = Taps {
+        k: [1e9; TAPS],
+        sign: [0.0; TAPS],
+        cos: [0.0; TAPS],
+        sin: [0.0; TAPS],
+    };
+
+    fn new(kind: FilterKind, margin: u32) -> Taps {
+        let mut t = Taps::NONE;
+        for d in 0..=2 * margin as usize {
+            let k = d as i32 - margin as i32;
+            t.k[d] = k as f32;
+            if let FilterKind::Lanczos { tau } = kind {
+                let b = PI * k as f32 / tau;
+                t.sign[d] = if k % 2 == 0 { 1.0 } else { -1.0 };
+                t.cos[d] = libm::cosf(b);
+                t.sin[d] = libm::sinf(b);
+            }
+        }
+        t
+    }
 }
 
 impl PixelFilter {
@@ -241,6 +303,14 @@ impl PixelFilter {
         radius: 0.5,
         negative: false,
         norm: 1.0,
+        taps: Taps {
+            k: {
+                let mut k = [1e9; TAPS];
+                k[0] = 0.0;
+                k
+            },
+            ..Taps::NONE
+        },
         table: None,
     };
 
@@ -288,8 +358,10 @@ impl PixelFilter {
             radius,
             negative,
             norm: (1.0 / integral) as f32,
+            taps: Taps::NONE,
             table: None,
         };
+        filter.taps = Taps::new(kind, filter.splat_margin());
         if !matches!(kind, FilterKind::Box | FilterKind::Tent) {
             filter.table = Some(filter.tabulate().ok_or(FilterError::Zero)?);
         }
@@ -352,6 +424,51 @@ impl PixelFilter {
     #[must_use]
     pub fn eval_axis(&self, x: f32) -> f32 {
         self.kind.profile(self.radius, x) * self.norm
+    }
+
+    /// The normalised 1-D profile at the taps `x0 − k` for `k = −m..=m`,
+    /// `m` the [splat margin](PixelFilter::splat_margin), in entry `k + m`
+    /// (the rest 0): a splat's weights along one axis. As
+    /// [`PixelFilter::eval_axis`] at each tap except for Lanczos, whose
+    /// taps cost three sines in all instead of two each: `sin π(x0 − k) =
+    /// (−1)ᵏ sin πx0`, and `sin π(x0 − k)/τ` by the angle difference with
+    /// the stored `cos πk/τ` and `sin πk/τ`, in a loop of fixed length
+    /// that compilers vectorise; the three are polynomials (libm's for
+    /// `τ < 1`). Those are plain `f32` operations (no
+    /// fused multiply–add), so the values are the same on every CPU and
+    /// SIMD width; they differ from `eval_axis`'s in the last bits.
+    #[inline]
+    pub(crate) fn eval_taps(&self, x0: f32) -> [f32; TAPS] {
+        let t = &self.taps;
+        let mut out = [0.0; TAPS];
+        let FilterKind::Lanczos { tau } = self.kind else {
+            let n = 2 * self.splat_margin() as usize + 1;
+            for (o, k) in out[..n].iter_mut().zip(t.k) {
+                *o = self.eval_axis(x0 - k);
+            }
+            return out;
+        };
+        let (s, _) = sin_cos_pi(x0);
+        let y = x0 / tau;
+        let (sa, ca) = if y.abs() <= 0.5 {
+            sin_cos_pi(y)
+        } else {
+            libm::sincosf(PI * y)
+        };
+        let scale = tau * self.norm / (PI * PI);
+        for (d, o) in out.iter_mut().enumerate() {
+            let x = x0 - t.k[d];
+            // sin πx / (πx) · sin(πx/τ) / (πx/τ) with both sines rotated.
+            let v = scale * (s * t.sign[d] * (sa * t.cos[d] - ca * t.sin[d])) / (x * x);
+            *o = if x.abs() > self.radius {
+                0.0
+            } else if x.abs() < 1e-5 {
+                self.norm
+            } else {
+                v
+            };
+        }
+        out
     }
 
     /// Whether renders splat this filter instead of importance-sampling
@@ -513,6 +630,56 @@ fn simpson(g: impl Fn(f32) -> f64, r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sin_cos_pi_is_within_three_ulps_of_the_true_values() {
+        for i in -4096..=4096 {
+            let x = i as f32 / 8192.0;
+            let (s, c) = sin_cos_pi(x);
+            let t = core::f64::consts::PI * f64::from(x);
+            assert!((f64::from(s) - t.sin()).abs() < 1.8e-7, "sin at {x}");
+            assert!((f64::from(c) - t.cos()).abs() < 1.8e-7, "cos at {x}");
+        }
+    }
+
+    #[test]
+    fn splat_taps_are_the_profile_at_each_centre() {
+        // Lanczos's rotated sines agree with the profile to f32 rounding
+        // (τ below 1 takes libm's sines); the others are the profile.
+        let kinds = [
+            (FilterKind::Lanczos { tau: 3.0 }, 3.0),
+            (FilterKind::Lanczos { tau: 0.7 }, 2.0),
+            (FilterKind::Lanczos { tau: 8.0 }, 8.0),
+            (
+                FilterKind::Mitchell {
+                    b: 1.0 / 3.0,
+                    c: 1.0 / 3.0,
+                },
+                2.0,
+            ),
+            (FilterKind::Gaussian { sigma: 0.5 }, 1.5),
+        ];
+        for (kind, radius) in kinds {
+            let f = PixelFilter::new(kind, radius).unwrap();
+            let m = f.splat_margin() as usize;
+            for i in 0..256 {
+                let x0 = -0.5 + i as f32 / 256.0;
+                let taps = f.eval_taps(x0);
+                for (d, &t) in taps.iter().enumerate() {
+                    let want = if d <= 2 * m {
+                        f.eval_axis(x0 - (d as f32 - m as f32))
+                    } else {
+                        0.0
+                    };
+                    if matches!(kind, FilterKind::Lanczos { .. }) {
+                        assert!((t - want).abs() < 2e-6, "{kind:?} at {x0}, tap {d}");
+                    } else {
+                        assert_eq!(t, want, "{kind:?} at {x0}, tap {d}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn box_of_half_a_pixel_is_the_identity() {

@@ -446,7 +446,7 @@ pub fn render_tile_adaptive<S: Sampler + Clone>(
 
 /// The most pixels a splat reaches along an axis: `2m + 1` for the
 /// largest margin, that of [`FILTER_MAX_RADIUS`](crate::filter::FILTER_MAX_RADIUS).
-pub const SPLAT_SIDE: usize = 2 * crate::filter::FILTER_MAX_RADIUS as usize + 1;
+pub const SPLAT_SIDE: usize = crate::filter::TAPS;
 // The margin of the largest radius is ⌈r + ½⌉ − 1 = r for an integer r.
 const _: () = assert!(crate::filter::FILTER_MAX_RADIUS == 8.0);
 
@@ -481,6 +481,9 @@ const SPLAT_RADIANCE_SCALE: f32 = 262_144.0;
 #[derive(Clone, Copy, Debug)]
 pub struct Splat {
     l: [i64; 3],
+    /// Every filter value within `±2¹⁴` units (`±4`): no product
+    /// overflows, so [`Splat::add_square`] needs no saturating multiplies.
+    small: bool,
     fx: [i64; SPLAT_SIDE],
     fy: [i64; SPLAT_SIDE],
 }
@@ -494,28 +497,22 @@ impl Splat {
         if !l.is_finite() {
             return None;
         }
-        let fixed = |x: f32, scale: f32| {
-            // As the film's `to_fixed`: round half away from zero, exact.
-            let y = x * scale;
-            let t = y as i64;
-            let frac = y - t as f32;
-            t + (frac >= 0.5) as i64 - (frac <= -0.5) as i64
-        };
         let lc = l.clamp(
             Vec3::splat(-MAX_SAMPLE_VALUE),
             Vec3::splat(MAX_SAMPLE_VALUE),
         );
-        let m = filter.splat_margin() as usize;
-        let (mut fx, mut fy) = ([0; SPLAT_SIDE], [0; SPLAT_SIDE]);
-        // The centre `d − m` pixels away is `u − ½ − (d − m)` from the
-        // sample.
-        for d in 0..=2 * m {
-            let off = d as f32 - m as f32;
-            fx[d] = fixed(filter.eval_axis(u.x - 0.5 - off), SPLAT_FILTER_SCALE);
-            fy[d] = fixed(filter.eval_axis(u.y - 0.5 - off), SPLAT_FILTER_SCALE);
-        }
+        // The centre `k` pixels from the sample's own is `u − ½ − k` away.
+        let (tx, ty) = (filter.eval_taps(u.x - 0.5), filter.eval_taps(u.y - 0.5));
+        let (fx, fy) = (
+            fixed_taps(&tx, SPLAT_FILTER_SCALE)
+                .unwrap_or_else(|| tx.map(|t| fixed(t, SPLAT_FILTER_SCALE))),
+            fixed_taps(&ty, SPLAT_FILTER_SCALE)
+                .unwrap_or_else(|| ty.map(|t| fixed(t, SPLAT_FILTER_SCALE))),
+        );
+        let small = |f: &[i64; SPLAT_SIDE]| f.iter().all(|v| v.unsigned_abs() <= 1 << 14);
         Some(Splat {
             l: lc.to_array().map(|c| fixed(c, SPLAT_RADIANCE_SCALE)),
+            small: small(&fx) && small(&fy),
             fx,
             fy,
         })
@@ -548,6 +545,111 @@ impl Splat {
             pixel.samples = pixel.samples.saturating_add(1);
         }
     }
+
+    /// Adds the splat to its `side × side` targets, target `(dx, dy)` at
+    /// `film[first + dy·stride + dx]` (none counted as a sample):
+    /// [`Splat::add_to`] on each. Where the values are small enough for
+    /// no product to overflow (`|Fx·L| ≤ 2⁴⁸`, `|Fx·Fy·L| ≤ 2⁶²`) the
+    /// products `Fx·L` are formed once per column and the weight rides
+    /// along as a fourth channel of radiance `2¹⁸` (`(Fx·Fy·2¹⁸ + 2¹⁷) >>
+    /// 18 = Fx·Fy`): the same sums, four lanes of one multiply, add and
+    /// shift per target. `SATURATE = false` adds with plain (wrapping)
+    /// adds: the caller's promise that no sum reaches `i64`'s end (see
+    /// [`Splat::reach`]), where they give the saturating adds' sums.
+    #[inline]
+    fn add_square<const SATURATE: bool>(
+        &self,
+        film: &mut [PixelSum],
+        first: usize,
+        stride: usize,
+        side: usize,
+    ) {
+        if !self.small {
+            for dy in 0..side {
+                let row = first + dy * stride;
+                for (dx, p) in film[row..row + side].iter_mut().enumerate() {
+                    self.add_to(p, dx, dy, false);
+                }
+            }
+            return;
+        }
+        // Columns of zero weight (a radius below the margin's reach, as
+        // Lanczos-3's outer column on the far side) are skipped.
+        let fx = &self.fx[..side];
+        let lo = fx.iter().position(|&f| f != 0).unwrap_or(side);
+        let hi = fx.iter().rposition(|&f| f != 0).map_or(lo, |i| i + 1);
+        let mut columns = [[0i64; 4]; SPLAT_SIDE];
+        for (g, &fx) in columns.iter_mut().zip(&fx[lo..hi]) {
+            *g = [fx * self.l[0], fx * self.l[1], fx * self.l[2], fx << 18];
+        }
+        for (dy, &fy) in self.fy[..side].iter().enumerate() {
+            if fy == 0 {
+                continue;
+            }
+            let row = first + dy * stride;
+            for (p, g) in film[row + lo..row + hi].iter_mut().zip(&columns) {
+                let v: [i64; 4] = core::array::from_fn(|c| (fy * g[c] + (1 << 17)) >> 18);
+                let add = |s: i64, v: i64| {
+                    if SATURATE {
+                        s.saturating_add(v)
+                    } else {
+                        s.wrapping_add(v)
+                    }
+                };
+                for (s, v) in p.sum.iter_mut().zip(v) {
+                    *s = add(*s, v);
+                }
+                p.weight = add(p.weight, v[3]);
+            }
+        }
+    }
+
+    /// The most this splat changes any one sum of any target, when
+    /// `small`: `|(f·L + 2¹⁷) >> 18| ≤ (|f|·|L| >> 18) + 1`, with the
+    /// weight's lane as radiance 2¹⁸ (`None` when not `small`).
+    #[inline]
+    fn reach(&self) -> Option<i64> {
+        let most = |f: &[i64; SPLAT_SIDE]| f.iter().fold(0, |m, v| m.max(v.abs()));
+        let l = self.l.iter().fold(1 << 18, |m: i64, v| m.max(v.abs()));
+        // |f| ≤ 2²⁸ and |L| ≤ 2³⁴ (clamped): the product fits.
+        self.small
+            .then(|| ((most(&self.fx) * most(&self.fy) * l) >> 18) + 1)
+    }
+}
+
+/// `x·scale` rounded half away from zero, exactly, as the film's
+/// `to_fixed` (saturating beyond `i64`).
+#[inline]
+fn fixed(x: f32, scale: f32) -> i64 {
+    let y = x * scale;
+    let t = y as i64;
+    let frac = y - t as f32;
+    t + (frac >= 0.5) as i64 - (frac <= -0.5) as i64
+}
+
+/// `x·scale` rounded half away from zero, as [`fixed`],
+/// for every tap at once, or `None` if some `|x·scale|` is not below
+/// 2²²: the rounding by the float's own (to even, in `[2²³, 2²⁴)`, where
+/// the integer is the bits' low part) corrected at ties, in a loop of
+/// plain lane operations that compilers vectorise, where the saturating
+/// `as i64` is a branchy scalar conversion per tap.
+#[inline]
+fn fixed_taps(x: &[f32; SPLAT_SIDE], scale: f32) -> Option<[i64; SPLAT_SIDE]> {
+    const BIG: f32 = 8_388_608.0; // 2²³
+    let mut out = [0i64; SPLAT_SIDE];
+    let mut small = true;
+    for (o, &x) in out.iter_mut().zip(x) {
+        let y = x * scale;
+        let a = y.abs();
+        small &= a < 4_194_304.0; // 2²², false for NaN
+        let shifted = a + BIG;
+        let t = shifted.to_bits() as i32 - BIG.to_bits() as i32;
+        // To even gave `t` below a tie `a = t + ½`; away from zero wants
+        // one more.
+        let t = t + (a - (shifted - BIG) == 0.5) as i32;
+        *o = i64::from(if y < 0.0 { -t } else { t });
+    }
+    small.then_some(out)
 }
 
 /// The film a splatted render of `tile` fills: the tile and a margin of
@@ -616,6 +718,14 @@ pub fn render_tile_splat<S: Sampler + Clone>(
     };
     const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
     let width = tile.width as usize;
+    // Saturating adds are needed only near `i64`'s end: while the film's
+    // largest sum plus every splat's largest change (`Splat::reach`)
+    // stays within 2⁶², plain adds give the same sums, cheaper.
+    let largest = film
+        .iter()
+        .flat_map(|p| p.sum.iter().chain([&p.weight]))
+        .fold(0u64, |m, v| m.max(v.unsigned_abs()));
+    let mut headroom = (1i64 << 62) - largest.min(1 << 62) as i64;
     Ok(for_each_group(
         scene,
         camera,
@@ -634,14 +744,106 @@ pub fn render_tile_splat<S: Sampler + Clone>(
                         film[own].dropped = film[own].dropped.saturating_add(1);
                         return;
                     };
-                    for dy in 0..side {
-                        let row = (gy + dy) * pw + gx + l;
-                        for dx in 0..side {
-                            splat.add_to(&mut film[row + dx], dx, dy, row + dx == own);
+                    let first = gy * pw + gx + l;
+                    match splat.reach() {
+                        Some(r) if r <= headroom => {
+                            headroom -= r;
+                            splat.add_square::<false>(film, first, pw, side);
                         }
+                        _ => splat.add_square::<true>(film, first, pw, side),
                     }
+                    film[own].samples = film[own].samples.saturating_add(1);
                 });
             }
         },
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_taps_round_as_fixed_does() {
+        // Ties (x·scale = k + ½) both ways, values near the 2²² bound, a
+        // NaN and the bound itself (which send every tap the slow way).
+        let mut values = [0.0f32; SPLAT_SIDE];
+        let mut seen = 0;
+        for i in -3000i32..3000 {
+            let base = i as f32 * 0.33;
+            let ties = [(i as f32 + 0.5) / 4096.0, (i as f32 - 0.5) / 4096.0];
+            for (j, x) in [base, -base, ties[0], ties[1], base * 1e-3]
+                .into_iter()
+                .enumerate()
+            {
+                values[(i.unsigned_abs() as usize + j) % SPLAT_SIDE] = x;
+            }
+            let got = fixed_taps(&values, SPLAT_FILTER_SCALE).unwrap();
+            assert_eq!(got, values.map(|x| fixed(x, SPLAT_FILTER_SCALE)));
+            seen += 1;
+        }
+        assert_eq!(seen, 6000);
+        let edge = 4_194_303.5 / SPLAT_FILTER_SCALE;
+        values[3] = edge;
+        assert_eq!(
+            fixed_taps(&values, SPLAT_FILTER_SCALE).unwrap()[3],
+            fixed(edge, SPLAT_FILTER_SCALE)
+        );
+        values[3] = 4_194_304.0 / SPLAT_FILTER_SCALE;
+        assert!(fixed_taps(&values, SPLAT_FILTER_SCALE).is_none());
+        values[3] = f32::NAN;
+        assert!(fixed_taps(&values, SPLAT_FILTER_SCALE).is_none());
+    }
+
+    #[test]
+    fn plain_and_saturating_squares_add_the_same_sums_unless_they_overflow() {
+        use crate::filter::{FilterKind, PixelFilter};
+        let f = PixelFilter::new(FilterKind::Lanczos { tau: 3.0 }, 3.0).unwrap();
+        let side = 2 * f.splat_margin() as usize + 1;
+        let splat = Splat::new(&f, Vec2::new(0.3, 0.8), Vec3::new(0.5, 2.0, 900.0)).unwrap();
+        let reach = splat.reach().unwrap();
+        assert_eq!(side, 7);
+        let start: [PixelSum; 49] = core::array::from_fn(|i| PixelSum {
+            sum: [i as i64 * 1_000_003, -(i as i64), 7],
+            weight: 1 << 30,
+            ..PixelSum::ZERO
+        });
+        let (mut plain, mut saturating, mut one_by_one) = (start, start, start);
+        splat.add_square::<false>(&mut plain, 0, side, side);
+        splat.add_square::<true>(&mut saturating, 0, side, side);
+        for dy in 0..side {
+            for dx in 0..side {
+                splat.add_to(&mut one_by_one[dy * side + dx], dx, dy, false);
+            }
+        }
+        assert_eq!(plain, saturating);
+        assert_eq!(plain, one_by_one);
+        // The reach bounds every change.
+        for (a, b) in plain.iter().zip(&start) {
+            for (x, y) in a
+                .sum
+                .iter()
+                .chain([&a.weight])
+                .zip(b.sum.iter().chain([&b.weight]))
+            {
+                assert!((x - y).abs() <= reach);
+            }
+        }
+        // Near i64's end only the saturating adds are right.
+        let full = [PixelSum {
+            sum: [i64::MAX; 3],
+            weight: i64::MAX,
+            ..PixelSum::ZERO
+        }; 49];
+        let mut saturated = full;
+        splat.add_square::<true>(&mut saturated, 0, side, side);
+        let mut want = full;
+        for dy in 0..side {
+            for dx in 0..side {
+                splat.add_to(&mut want[dy * side + dx], dx, dy, false);
+            }
+        }
+        assert_eq!(saturated, want);
+        assert!(saturated.iter().any(|p| p.sum[2] == i64::MAX));
+    }
 }
