@@ -98,7 +98,8 @@ fn splatting_keeps_the_level_and_leaves_no_speckles() {
     // the box with 12.8 % negative pixels (Mitchell: 1.4 %, 2.1 %), from
     // pixels whose few weights summed near zero. Splatted, measured: the
     // mean luminance within 0.01 % of the box's and 0.05 % (Lanczos) or
-    // no (Mitchell) negative pixels, at hard edges where the filter rings.
+    // no (Mitchell) negative pixels: dim pixels next to a bright sample on
+    // a negative lobe (noise: their filtered reference is positive).
     let scene = built_in("week09").unwrap();
     let (w, h) = (160, 90);
     for spp in [4, 16] {
