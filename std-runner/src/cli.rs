@@ -61,7 +61,8 @@ pub enum Command {
     /// radial averages as a plot and CSV.
     Spectrum(SpectrumArgs),
     /// Merge partial films (`render --crop/--pixel-bounds/--samples -o
-    /// PART.film`) into one image, bit-identical to a one-shot render.
+    /// PART.film`) into one image, bit-identical to a one-shot render, or
+    /// into a staged .film that merges on with the rest.
     Merge(MergeArgs),
     /// Re-render the golden table (small renders of every scene and
     /// sampler, and of the reconstruction variants) and check this build
@@ -391,8 +392,10 @@ pub struct RenderArgs {
     /// Pixel reconstruction filter. Box, tent, gaussian and
     /// blackman-harris are importance-sampled (each pixel depends only on
     /// its own samples); mitchell and lanczos, whose lobes are negative,
-    /// are splatted into every pixel they reach (renders then cover the
-    /// whole image; --samples splits still merge), except with --adaptive.
+    /// are splatted into every pixel they reach (a .film of a pixel window
+    /// then also holds the sums its samples add to the pixels around it;
+    /// an image of a window renders those pixels' samples too), except
+    /// with --adaptive.
     #[arg(long, value_enum, default_value_t = FilterName::Box)]
     pub filter: FilterName,
     /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5
@@ -511,7 +514,9 @@ pub struct MergeArgs {
     /// Partial films written by `strata render -o PART.film`.
     #[arg(required = true)]
     pub parts: Vec<PathBuf>,
-    /// Output: .png, .exr or .film.
+    /// Output: .png or .exr (the parts must make the whole render), or
+    /// .film (they may make a staged part of it: one pixel window × one
+    /// sample range, to merge on with the rest).
     #[arg(short, long)]
     pub output: PathBuf,
     /// PNG transfer curve: sRGB, or the course's gamma 2.

@@ -305,11 +305,13 @@ pub fn render_variant_hash(
 /// memory exactly as `strata render -o golden.EXT` writes them.
 pub fn file_hashes(scene: &SceneData, threads: usize) -> Result<[u64; 3]> {
     let job = job(scene, FILE_SAMPLER, threads);
+    let done = run(&job, &|_| {})?;
     let film = Film {
         key: RenderKey::of(&job),
         window: job.window,
         samples: job.samples.clone(),
-        pixels: run(&job, &|_| {})?.pixels,
+        border: done.border,
+        pixels: done.pixels,
     };
     let mut out = [0; 3];
     for (h, ext) in out.iter_mut().zip(FILE_FORMATS) {

@@ -182,7 +182,13 @@ impl Job<'_> {
 /// A finished render.
 #[derive(Debug)]
 pub struct Rendered {
-    /// One accumulator per pixel of the job's window, row-major.
+    /// Pixels beyond the window on each side whose sums `pixels` also
+    /// holds (with counts of 0): a splatted filter's margin, else 0.
+    pub border: u32,
+    /// One accumulator per pixel of the job's window grown by `border`
+    /// and clipped to the image ([`crate::film::extent`]), row-major: the
+    /// window's alone unless the filter splats and the window is not the
+    /// whole image.
     pub pixels: Vec<PixelSum>,
     /// Wall-clock time of the tracing.
     pub wall: Duration,
@@ -230,15 +236,6 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         ));
     }
     let splat = job.splats();
-    if splat && w != Tile::whole(job.width, job.height) {
-        return Err(anyhow!(
-            "the {} filter is splatted: each sample reaches pixels up to {} away, so a render \
-             of it covers the whole image (pixel windows and crops of it are not supported; \
-             split it by --samples instead)",
-            job.filter.kind().name(),
-            job.filter.splat_margin()
-        ));
-    }
     if let Some(a) = job.adaptive
         && (a.max() != job.spp || job.samples != (0..job.spp))
     {
@@ -277,13 +274,14 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         })
     })??;
     let wall = start.elapsed();
-    let mut pixels = vec![PixelSum::ZERO; w.area()];
+    let border = if splat { job.filter.splat_margin() } else { 0 };
+    let out = crate::film::extent(w, border, job.width, job.height);
+    let mut pixels = vec![PixelSum::ZERO; out.area()];
     let mut stats = TileStats::default();
-    let margin = if splat { job.filter.splat_margin() } else { 0 };
     for (tile, film, tile_stats) in films {
         stats.add(&tile_stats);
-        if margin > 0 {
-            add_splatted(&mut pixels, w, tile, margin, &film);
+        if border > 0 {
+            add_splatted(&mut pixels, out, tile, border, &film);
             continue;
         }
         for row in 0..tile.height {
@@ -293,6 +291,7 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         }
     }
     Ok(Rendered {
+        border,
         pixels,
         wall,
         stats,
@@ -300,8 +299,8 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
 }
 
 /// Adds a splatted tile's film (the tile and `margin` pixels around it)
-/// into `pixels`, the window `w`'s; entries outside the window are
-/// dropped (a splatted render's window is the whole image).
+/// into `pixels`, those of `w` (the window and its border, clipped to the
+/// image); entries outside it (outside the image) are dropped.
 fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, margin: u32, film: &[PixelSum]) {
     let pw = (tile.width + 2 * margin) as usize;
     for (i, p) in film.iter().enumerate() {

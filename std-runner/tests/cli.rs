@@ -569,6 +569,20 @@ fn png_size(p: &Path) -> (u32, u32) {
     (info.width, info.height)
 }
 
+/// The 8-bit RGB samples of a PNG, row-major.
+fn png_rgb8(p: &Path) -> Vec<u8> {
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes(p)));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(
+        (info.color_type, info.bit_depth),
+        (png::ColorType::Rgb, png::BitDepth::Eight)
+    );
+    buf.truncate(info.buffer_size());
+    buf
+}
+
 #[test]
 fn converge_writes_csv_and_plot_and_caches_its_reference() {
     let dir = tempfile::tempdir().unwrap();
@@ -734,53 +748,83 @@ fn cover_render(dir: &Path, name: &str, extra: &[&str]) {
 
 #[test]
 fn split_renders_merge_into_the_one_shot_image() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    cover_render(d, "full.png", &[]);
-    cover_render(d, "full.exr", &[]);
-    // Pixels and samples both split, unevenly: left columns in two sample
-    // runs, the right part by --crop (40 × 0.45 → column 18; the image is 40 × 22), the bottom
-    // right rows in another run.
-    cover_render(
-        d,
-        "a.film",
-        &["--pixel-bounds", "0,18,0,22", "--samples", "0..4"],
-    );
-    cover_render(
-        d,
-        "b.film",
-        &["--pixel-bounds", "0,18,0,22", "--samples", "4..6"],
-    );
-    cover_render(d, "c.film", &["--crop", "0.45,1,0,0.5"]);
-    cover_render(d, "e.film", &["--crop", "0.45,1,0.5,1", "--threads", "1"]);
-    let parts = ["e.film", "b.film", "c.film", "a.film"];
-    let merge = |out: &str| {
-        let mut args = vec!["merge"];
-        args.extend_from_slice(&parts);
-        args.extend_from_slice(&["-o", out]);
-        ok(d, &args)
-    };
-    let said = merge("m.png");
-    assert!(said.contains("merged 4 parts"), "{said}");
-    assert_eq!(bytes(&d.join("m.png")), bytes(&d.join("full.png")), "PNG");
-    merge("m.exr");
-    assert_eq!(bytes(&d.join("m.exr")), bytes(&d.join("full.exr")), "EXR");
-    // A merged film is a film too.
-    merge("m.film");
-    ok(d, &["merge", "m.film", "-o", "again.png"]);
-    assert_eq!(bytes(&d.join("again.png")), bytes(&d.join("full.png")));
-    // The film is 40 bytes a pixel and a short header.
-    let film = bytes(&d.join("m.film")).len();
-    assert!(
-        (40 * 22 * 40..40 * 22 * 40 + 1024).contains(&film),
-        "{film}"
-    );
-    // A crop rendered straight to PNG is the window's pixels.
-    cover_render(d, "crop.png", &["--crop", "0.45,1,0,0.5"]);
-    assert_eq!(png_size(&d.join("crop.png")), (22, 11));
+    // The box, and Lanczos, whose splatted parts hold the sums their
+    // samples add beyond their windows.
+    for filter in [&[][..], &["--filter", "lanczos"][..]] {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let render = |name: &str, extra: &[&str]| {
+            let mut args = extra.to_vec();
+            args.extend_from_slice(filter);
+            cover_render(d, name, &args);
+        };
+        render("full.png", &[]);
+        render("full.exr", &[]);
+        // Pixels and samples both split, unevenly: left columns in two
+        // sample runs, the right part by --crop (40 × 0.45 → column 18;
+        // the image is 40 × 22), the bottom right rows in another run.
+        render(
+            "a.film",
+            &["--pixel-bounds", "0,18,0,22", "--samples", "0..4"],
+        );
+        render(
+            "b.film",
+            &["--pixel-bounds", "0,18,0,22", "--samples", "4..6"],
+        );
+        render("c.film", &["--crop", "0.45,1,0,0.5"]);
+        render("e.film", &["--crop", "0.45,1,0.5,1", "--threads", "1"]);
+        let parts = ["e.film", "b.film", "c.film", "a.film"];
+        let merge = |out: &str| {
+            let mut args = vec!["merge"];
+            args.extend_from_slice(&parts);
+            args.extend_from_slice(&["-o", out]);
+            ok(d, &args)
+        };
+        let said = merge("m.png");
+        assert!(said.contains("merged 4 parts"), "{said}");
+        assert_eq!(bytes(&d.join("m.png")), bytes(&d.join("full.png")), "PNG");
+        merge("m.exr");
+        assert_eq!(bytes(&d.join("m.exr")), bytes(&d.join("full.exr")), "EXR");
+        // A merged film is a film too.
+        merge("m.film");
+        ok(d, &["merge", "m.film", "-o", "again.png"]);
+        assert_eq!(bytes(&d.join("again.png")), bytes(&d.join("full.png")));
+        // The film is 40 bytes a pixel and a short header.
+        let film = bytes(&d.join("m.film")).len();
+        assert!(
+            (40 * 22 * 40..40 * 22 * 40 + 1024).contains(&film),
+            "{film}"
+        );
+        // Staged: the left's two runs, then the right's two windows, then
+        // the two halves; an image of a stage is refused.
+        let said = ok(d, &["merge", "a.film", "b.film", "-o", "left.film"]);
+        assert!(
+            said.contains("a staged part: pixels 0,18,0,22, samples 0..6"),
+            "{said}"
+        );
+        ok(d, &["merge", "c.film", "e.film", "-o", "right.film"]);
+        let e = refused(d, &["merge", "c.film", "e.film", "-o", "right.png"]);
+        assert!(
+            e.contains("the parts leave a gap: pixel (0, 0) has 0 of its 6"),
+            "{e}"
+        );
+        ok(d, &["merge", "right.film", "left.film", "-o", "staged.png"]);
+        assert_eq!(bytes(&d.join("staged.png")), bytes(&d.join("full.png")));
+        // A crop rendered straight to an image is the window's pixels of
+        // the whole render.
+        render("crop.png", &["--crop", "0.45,1,0,0.5"]);
+        assert_eq!(png_size(&d.join("crop.png")), (22, 11));
+        let (crop, full) = (png_rgb8(&d.join("crop.png")), png_rgb8(&d.join("full.png")));
+        for (i, p) in crop.chunks(3).enumerate() {
+            let (x, y) = (i % 22, i / 22);
+            let at = 3 * (y * 40 + x + 18);
+            assert_eq!(p, &full[at..at + 3], "{filter:?} ({x}, {y})");
+        }
+    }
     // pbrt's rule in f32: 0.2 × 10 rows is row 2, not 3.
+    let dir = tempfile::tempdir().unwrap();
     ok(
-        d,
+        dir.path(),
         &[
             "render",
             "--width",
@@ -793,7 +837,7 @@ fn split_renders_merge_into_the_one_shot_image() {
             "band.png",
         ],
     );
-    assert_eq!(png_size(&d.join("band.png")), (18, 2));
+    assert_eq!(png_size(&dir.path().join("band.png")), (18, 2));
 }
 
 #[test]

@@ -52,11 +52,13 @@ fn job(
 }
 
 fn film(j: &Job<'_>) -> Film {
+    let done = run(j, &|_| {}).unwrap();
     Film {
         key: RenderKey::of(j),
         window: j.window,
         samples: j.samples.clone(),
-        pixels: run(j, &|_| {}).unwrap().pixels,
+        border: done.border,
+        pixels: done.pixels,
     }
 }
 
@@ -303,6 +305,7 @@ fn adaptive_renders_are_the_same_for_any_threads_tiles_and_crops() {
                     key: RenderKey::of(&j),
                     window,
                     samples: j.samples.clone(),
+                    border: 0,
                     pixels: run(&j, &|_| {}).unwrap().pixels,
                 };
                 // Through the file format, whose checks accept adaptive

@@ -135,7 +135,7 @@ fn splatting_keeps_the_level_and_leaves_no_speckles() {
 }
 
 #[test]
-fn splatted_renders_are_the_same_for_any_threads_tiles_and_sample_runs() {
+fn splatted_renders_are_the_same_for_any_threads_tiles_sample_runs_and_windows() {
     let scene = built_in("cover").unwrap();
     let (w, h) = (37, 21);
     for name in ["mitchell", "lanczos"] {
@@ -159,40 +159,59 @@ fn splatted_renders_are_the_same_for_any_threads_tiles_and_sample_runs() {
                 "{name}: {threads} threads, tile {tile}"
             );
         }
-        // Sample runs, each through the film format, merged.
-        let parts: Vec<Film> = [0..3, 3..8]
-            .into_iter()
-            .map(|samples| {
-                let j = Job {
-                    samples: samples.clone(),
-                    ..one.clone()
-                };
-                let film = Film {
-                    key: RenderKey::of(&j),
-                    window: Tile::whole(w, h),
-                    samples,
-                    pixels: run(&j, &|_| {}).unwrap().pixels,
-                };
-                Film::from_bytes(&film.to_bytes()).unwrap()
-            })
-            .collect();
-        let names = [PathBuf::from("a"), PathBuf::from("b")];
-        assert!(
-            merge(&parts, &names).unwrap().pixels == want,
-            "{name}: merged sample runs"
-        );
-        // A pixel window is refused: its pixels need its neighbours' samples.
-        let crop = Job {
-            window: Tile {
-                x0: 5,
-                y0: 0,
-                width: 10,
-                height: h,
-            },
+        // Sample runs and pixel windows, each through the film format
+        // with its border, merged in one go and in stages.
+        let part = |window: Tile, samples: std::ops::Range<u32>| {
+            let j = Job {
+                window,
+                samples: samples.clone(),
+                ..one.clone()
+            };
+            let done = run(&j, &|_| {}).unwrap();
+            assert_eq!(done.border, filter(name).splat_margin());
+            let film = Film {
+                key: RenderKey::of(&j),
+                window,
+                samples,
+                border: done.border,
+                pixels: done.pixels,
+            };
+            Film::from_bytes(&film.to_bytes()).unwrap()
+        };
+        let cut = |x0, x1, y0, y1| Tile {
+            x0,
+            y0,
+            width: x1 - x0,
+            height: y1 - y0,
+        };
+        let parts = [
+            part(Tile::whole(w, h), 0..3),
+            part(cut(0, 5, 0, h), 3..8),
+            part(cut(5, w, 0, 9), 3..8),
+            part(cut(5, 20, 9, h), 3..8),
+            part(cut(20, w, 9, h), 3..8),
+        ];
+        let names: Vec<PathBuf> = (0..5).map(|i| PathBuf::from(format!("p{i}"))).collect();
+        let all = merge(&parts, &names).unwrap();
+        assert!(all.pixels == want, "{name}: merged windows and runs");
+        let right = merge(&parts[2..], &names[2..]).unwrap();
+        assert_eq!(right.window, cut(5, w, 0, h));
+        let staged = merge(&[parts[0].clone(), parts[1].clone(), right], &names[..3]).unwrap();
+        assert!(staged == all, "{name}: staged merge");
+        // A window's image: rendered with its border's pixels, whose
+        // samples reach it, its pixels are the whole render's.
+        let window = cut(9, 26, 4, 15);
+        let m = filter(name).splat_margin();
+        let grown = strata_runner::film::extent(window, m, w, h);
+        let j = Job {
+            window: grown,
             ..one.clone()
         };
-        let e = format!("{:#}", run(&crop, &|_| {}).unwrap_err());
-        assert!(e.contains("is splatted"), "{e}");
+        let done = run(&j, &|_| {}).unwrap();
+        let outer = strata_runner::film::extent(grown, m, w, h);
+        let got = strata_runner::film::cut(&done.pixels, outer, window);
+        let whole = strata_runner::film::cut(&want, Tile::whole(w, h), window);
+        assert!(got == whole, "{name}: a window's image");
     }
 }
 

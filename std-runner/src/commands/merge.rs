@@ -6,7 +6,7 @@ use anyhow::{Result, bail};
 use crate::cli::MergeArgs;
 use crate::commands::check_output_ext;
 use crate::commands::output::{SppMap, check_output_or_film, same_path, write_film_or_image};
-use crate::film::Film;
+use crate::film::{Film, is_film_path, samples_text, window_text};
 use crate::image_io::say;
 
 /// Runs `strata merge`: every part is read and checked before the output
@@ -35,7 +35,11 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
             );
         }
     }
-    let film = crate::film::merge(&parts, &args.parts)?;
+    // An image is of the finished render; a .film may be a staged part.
+    let film = match is_film_path(&args.output) {
+        true => crate::film::merge(&parts, &args.parts)?,
+        false => crate::film::merge_whole(&parts, &args.parts)?,
+    };
     // Drawn before the image is written: a failure leaves no image.
     let map = args
         .spp_map
@@ -49,8 +53,18 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
         std::fs::remove_file(&args.output).ok();
         return Err(e);
     }
+    let whole = film.window == strata::render::Tile::whole(film.key.width(), film.key.height())
+        && film.samples == (0..film.key.spp());
+    let part = match whole {
+        true => String::new(),
+        false => format!(
+            " (a staged part: pixels {}, samples {})",
+            window_text(film.window),
+            samples_text(&film.samples)
+        ),
+    };
     say(&format!(
-        "merged {} part{}: {} {}x{}, {} spp, to {}",
+        "merged {} part{}: {} {}x{}, {} spp{part}, to {}",
         parts.len(),
         if parts.len() == 1 { "" } else { "s" },
         film.key.get("scene").unwrap_or("?"),

@@ -22,7 +22,11 @@ pub(crate) fn same_path(a: &Path, b: &Path) -> bool {
 
 /// Mean, least and most samples per pixel, and the share at the maximum.
 pub(crate) fn spp_summary(film: &Film) -> String {
-    let taken: Vec<u64> = film.pixels.iter().map(|p| p.taken() as u64).collect();
+    let taken: Vec<u64> = film
+        .window_pixels()
+        .iter()
+        .map(|p| p.taken() as u64)
+        .collect();
     let n = taken.len().max(1) as f64;
     let at_max = taken
         .iter()
@@ -53,7 +57,8 @@ impl SppMap {
     pub(crate) fn draw(film: &Film) -> Result<Self> {
         let base = film.key.adaptive().map_or(film.key.spp(), |a| a.min());
         let (w, h) = (film.window.width, film.window.height);
-        let (rgb, width, height) = spp_map_with_legend(&film.pixels, w, h, base, film.key.spp())?;
+        let pixels = film.window_pixels();
+        let (rgb, width, height) = spp_map_with_legend(&pixels, w, h, base, film.key.spp())?;
         let mut meta = film.metadata(Transfer::Srgb);
         meta.push((
             "strata.spp_map".into(),

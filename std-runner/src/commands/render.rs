@@ -15,7 +15,7 @@ use crate::commands::{
     adaptive_settings, check_output_ext, check_pixels, height_for, progress_bar, resolve_scene,
     window_of,
 };
-use crate::film::{Film, RenderKey, samples_text, window_text};
+use crate::film::{Film, RenderKey, extent, is_film_path, samples_text, window_text};
 use crate::image_io::{Transfer, say};
 use crate::render::{Job, Rendered, SamplerKind, run};
 use crate::scenes::SceneData;
@@ -31,18 +31,31 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
     );
     let Rendered {
+        border,
         pixels,
         wall,
         stats,
     } = run(job, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     let dropped: u64 = pixels.iter().map(|p| p.dropped as u64).sum();
-    let film = Film {
+    let mut film = Film {
         key: RenderKey::of(job),
         window: job.window,
         samples: job.samples.clone(),
+        border,
         pixels,
     };
+    if let Some(window) = plan.image_window {
+        // An image of part of a splatted render: its pixels' neighbours
+        // within the margin were rendered too, so the window's sums are
+        // complete; the image keeps the window alone.
+        film = Film {
+            pixels: crate::film::cut(&film.pixels, film.extent(), window),
+            window,
+            border: 0,
+            ..film
+        };
+    }
     plan.write(&film)?;
     say(&plan.summary(&film));
     say(&speed_line(job, wall, stats, dropped));
@@ -63,6 +76,10 @@ struct RenderPlan<'a> {
     spp_map: Option<PathBuf>,
     /// `--stats`.
     stats: Option<PathBuf>,
+    /// The window an image keeps when the job renders more: a window of a
+    /// splatted filter written as an image renders its border's pixels
+    /// too (their samples reach it), then keeps the window.
+    image_window: Option<Tile>,
 }
 
 impl RenderArgs {
@@ -93,7 +110,7 @@ impl RenderArgs {
             );
         }
         let output = self.output_files(&scene.name)?;
-        let job = Job {
+        let mut job = Job {
             window,
             samples,
             max_depth: self.max_depth.unwrap_or(d.max_depth),
@@ -108,12 +125,18 @@ impl RenderArgs {
             texture_filter: self.texture_filter.filter(),
             ..Job::new(scene, width, height, spp)
         };
+        let mut image_window = None;
+        if job.splats() && !is_film_path(&output) && window != Tile::whole(width, height) {
+            job.window = extent(window, filter.splat_margin(), width, height);
+            image_window = Some(window);
+        }
         Ok(RenderPlan {
             job,
             output,
             gamma: self.gamma,
             spp_map: self.spp_map.clone(),
             stats: self.stats.clone(),
+            image_window,
         })
     }
 
@@ -177,13 +200,13 @@ impl RenderPlan<'_> {
     /// What was rendered, at what settings, to which file.
     fn summary(&self, film: &Film) -> String {
         let job = &self.job;
-        let whole = job.window == Tile::whole(job.width, job.height);
+        let whole = film.window == Tile::whole(job.width, job.height);
         let part = if whole && job.samples == (0..job.spp) {
             String::new()
         } else {
             format!(
                 " (pixels {}, samples {})",
-                window_text(job.window),
+                window_text(film.window),
                 samples_text(&job.samples)
             )
         };

@@ -2,7 +2,6 @@
 //! read back, checked, by [`Film::from_bytes`].
 
 use std::fmt::Write as _;
-use std::ops::Range;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
@@ -39,6 +38,9 @@ impl Film {
         }
         writeln!(head, "window={}", window_text(self.window)).unwrap();
         writeln!(head, "samples={}", samples_text(&self.samples)).unwrap();
+        if self.border > 0 {
+            writeln!(head, "border={}", self.border).unwrap();
+        }
         writeln!(head, "checksum={:016x}", crate::hash::fnv1a(&body)).unwrap();
         writeln!(head).unwrap();
         let mut out = head.into_bytes();
@@ -134,10 +136,22 @@ impl Film {
                 a.max()
             );
         }
-        let need = window.area() * BYTES_PER_PIXEL;
+        let border = match map.iter().find(|(k, _)| *k == "border") {
+            None => 0,
+            Some((_, v)) => match v.parse::<u32>() {
+                Ok(b) if b > 0 && b as f32 <= strata::filter::FILTER_MAX_RADIUS => b,
+                _ => bail!(
+                    "bad `border`: `{v}` is not a splat margin (1 to {})",
+                    strata::filter::FILTER_MAX_RADIUS
+                ),
+            },
+        };
+        let extent = super::extent(window, border, width, height);
+        let need = extent.area() * BYTES_PER_PIXEL;
         if body.len() != need {
             bail!(
-                "truncated or padded: {} bytes of pixels where the window needs {need}",
+                "truncated or padded: {} bytes of pixels where the window and its border need \
+                 {need}",
                 body.len()
             );
         }
@@ -165,13 +179,15 @@ impl Film {
             spp,
             adaptive,
         };
-        check_counts(&key, &samples, &pixels)?;
-        Ok(Film {
+        let film = Film {
             key,
             window,
             samples,
+            border,
             pixels,
-        })
+        };
+        check_counts(&film)?;
+        Ok(film)
     }
 
     /// Reads a film file; errors name it.
@@ -182,15 +198,13 @@ impl Film {
     }
 }
 
-/// Every pixel took every sample of the range, kept or dropped; an
-/// adaptive pixel (whose range is all of `0..spp`) took a count its
-/// settings allow ([`Adaptive::can_take`](strata::render::Adaptive::can_take)). A merge checks the same of films
-/// built in code.
-pub(super) fn check_counts(
-    key: &RenderKey,
-    samples: &Range<u32>,
-    pixels: &[PixelSum],
-) -> Result<()> {
+/// Every window pixel took every sample of the range, kept or dropped,
+/// and every border pixel none; an adaptive pixel (whose range is all of
+/// `0..spp`) took a count its settings allow
+/// ([`Adaptive::can_take`](strata::render::Adaptive::can_take)). A merge
+/// checks the same of films built in code.
+pub(super) fn check_counts(film: &Film) -> Result<()> {
+    let (key, samples) = (&film.key, &film.samples);
     let n = samples.end - samples.start;
     if key.adaptive.is_some() && *samples != (0..key.spp) {
         bail!(
@@ -204,22 +218,44 @@ pub(super) fn check_counts(
         None => t == n,
         Some(a) => a.can_take(t),
     };
-    if let Some(at) = pixels.iter().position(|p| !possible(p.taken())) {
-        let want = match key.adaptive {
-            None => n.to_string(),
-            Some(a) => format!(
-                "a multiple of {} from {} to {}",
-                a.block(),
-                a.min(),
-                2 * a.block() + a.rest_range().end()
-            ),
-        };
+    let extent = film.extent();
+    if film.pixels.len() != extent.area() {
         bail!(
-            "pixel {at} of the window holds {} samples where the range {}..{} has {want}",
-            pixels[at].taken(),
-            samples.start,
-            samples.end
+            "{} pixels where the window and its border have {}",
+            film.pixels.len(),
+            extent.area()
         );
+    }
+    let w = film.window;
+    for (i, p) in film.pixels.iter().enumerate() {
+        let (x, y) = (
+            extent.x0 + (i % extent.width as usize) as u32,
+            extent.y0 + (i / extent.width as usize) as u32,
+        );
+        let owned = (w.x0..w.x0 + w.width).contains(&x) && (w.y0..w.y0 + w.height).contains(&y);
+        if owned && !possible(p.taken()) {
+            let want = match key.adaptive {
+                None => n.to_string(),
+                Some(a) => format!(
+                    "a multiple of {} from {} to {}",
+                    a.block(),
+                    a.min(),
+                    2 * a.block() + a.rest_range().end()
+                ),
+            };
+            bail!(
+                "pixel ({x}, {y}) holds {} samples where the range {}..{} has {want}",
+                p.taken(),
+                samples.start,
+                samples.end
+            );
+        }
+        if !owned && p.taken() != 0 {
+            bail!(
+                "pixel ({x}, {y}) of the border holds {} samples; a border holds only sums",
+                p.taken()
+            );
+        }
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
-//! Adding parts into the whole film, after checking that they come from one
-//! render and cover every pixel and sample index exactly once.
+//! Adding parts into one film, after checking that they come from one
+//! render and cover every pixel and sample index of one window × one
+//! sample range exactly once (the whole render, or a staged part of it).
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -10,10 +11,24 @@ use strata::render::{PixelSum, Tile};
 use super::Film;
 use super::format::check_counts;
 
-/// Merges parts that partition the whole image and every sample index
-/// exactly once into one whole film. `names` label the parts in errors
-/// (one per part). Refuses parts of different renders, overlaps and gaps.
+/// Merges parts whose cells (`window × samples`) are disjoint and join
+/// into one window × one sample range: the whole image and every sample
+/// (the finished film), or a staged part of it (a partial film that
+/// merges on with the rest). Borders are added wherever they fall.
+/// `names` label the parts in errors (one per part). Refuses parts of
+/// different renders, overlaps, and cells that leave a gap in their
+/// window × range.
 pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
+    merge_cells(parts, names, false)
+}
+
+/// As [`merge()`], but the cells must fill the whole image and every
+/// sample: the finished film, for an image.
+pub fn merge_whole(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
+    merge_cells(parts, names, true)
+}
+
+fn merge_cells(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Film> {
     assert_eq!(parts.len(), names.len());
     let Some(first) = parts.first() else {
         bail!("nothing to merge");
@@ -27,6 +42,15 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
                 name(0)
             );
         }
+        if p.border != first.border {
+            bail!(
+                "`{}` has a border of {} pixels and `{}` of {}: films of one render have one",
+                name(i),
+                p.border,
+                name(0),
+                first.border
+            );
+        }
     }
     let (w, h, spp) = (first.key.width(), first.key.height(), first.key.spp());
     // Films built in code rather than read: the same checks as `from_bytes`.
@@ -34,18 +58,13 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
         let t = &p.window;
         let inside = t.x0.checked_add(t.width).is_some_and(|x| x <= w)
             && t.y0.checked_add(t.height).is_some_and(|y| y <= h);
-        if !inside
-            || p.pixels.len() != t.area()
-            || p.samples.start >= p.samples.end
-            || p.samples.end > spp
-        {
+        if !inside || p.samples.start >= p.samples.end || p.samples.end > spp {
             bail!(
-                "`{}` is inconsistent: its window, pixels or samples do not fit the render",
+                "`{}` is inconsistent: its window or samples do not fit the render",
                 name(i)
             );
         }
-        check_counts(&p.key, &p.samples, &p.pixels)
-            .with_context(|| format!("`{}` is inconsistent", name(i)))?;
+        check_counts(p).with_context(|| format!("`{}` is inconsistent", name(i)))?;
     }
     let cols = |t: &Tile| t.x0..t.x0 + t.width;
     let rows = |t: &Tile| t.y0..t.y0 + t.height;
@@ -72,31 +91,73 @@ pub fn merge(parts: &[Film], names: &[PathBuf]) -> Result<Film> {
             }
         }
     }
-    // With no overlap, a pixel is complete exactly when the sample ranges
-    // covering it add up to spp.
-    let mut pixels = vec![PixelSum::ZERO; (w as usize) * (h as usize)];
-    let mut covered = vec![0u64; pixels.len()];
+    // The cells' hull: the window and the sample range they must fill.
+    let hull = |f: fn(&Film) -> (u32, u32)| {
+        parts
+            .iter()
+            .map(f)
+            .fold((u32::MAX, 0), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    };
+    let ((x0, x1), (y0, y1), (s0, s1)) = match whole_only {
+        true => ((0, w), (0, h), (0, spp)),
+        false => (
+            hull(|p| (p.window.x0, p.window.x0 + p.window.width)),
+            hull(|p| (p.window.y0, p.window.y0 + p.window.height)),
+            hull(|p| (p.samples.start, p.samples.end)),
+        ),
+    };
+    let window = Tile {
+        x0,
+        y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    };
+    let border = first.border;
+    let out = super::extent(window, border, w, h);
+    let mut pixels = vec![PixelSum::ZERO; out.area()];
+    let mut covered = vec![0u64; window.area()];
     for p in parts {
+        let from = p.extent();
+        for (r, y) in rows(&from).enumerate() {
+            for (c, x) in cols(&from).enumerate() {
+                let at = (y - out.y0) as usize * out.width as usize + (x - out.x0) as usize;
+                pixels[at].merge(&p.pixels[r * from.width as usize + c]);
+            }
+        }
         let n = (p.samples.end - p.samples.start) as u64;
-        for (r, y) in rows(&p.window).enumerate() {
-            for (c, x) in cols(&p.window).enumerate() {
-                let at = y as usize * w as usize + x as usize;
-                covered[at] += n;
-                pixels[at].merge(&p.pixels[r * p.window.width as usize + c]);
+        for y in rows(&p.window) {
+            for x in cols(&p.window) {
+                covered[(y - y0) as usize * window.width as usize + (x - x0) as usize] += n;
             }
         }
     }
-    if let Some(at) = covered.iter().position(|&c| c != spp as u64) {
-        let (x, y) = (at % w as usize, at / w as usize);
+    // With no overlap, every cell lies in the hull, so a pixel's ranges
+    // fill the hull's exactly when their lengths add up to it.
+    let whole = window == Tile::whole(w, h) && (s0, s1) == (0, spp);
+    if let Some(at) = covered.iter().position(|&c| c != (s1 - s0) as u64) {
+        let (x, y) = (
+            x0 as usize + at % window.width as usize,
+            y0 as usize + at / window.width as usize,
+        );
+        if whole {
+            bail!(
+                "the parts leave a gap: pixel ({x}, {y}) has {} of its {spp} samples",
+                covered[at]
+            );
+        }
         bail!(
-            "the parts leave a gap: pixel ({x}, {y}) has {} of its {spp} samples",
-            covered[at]
+            "the parts leave a gap in the window x {x0}..{x1}, y {y0}..{y1} × samples {s0}..{s1} \
+             they span: pixel ({x}, {y}) has {} of those {} samples (a staged merge must join \
+             into one window and one sample range)",
+            covered[at],
+            s1 - s0
         );
     }
     Ok(Film {
         key: first.key.clone(),
-        window: Tile::whole(w, h),
-        samples: 0..spp,
+        window,
+        samples: s0..s1,
+        border,
         pixels,
     })
 }

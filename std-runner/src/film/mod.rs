@@ -4,9 +4,22 @@
 //! or both) is saved as a `.film`: the exact per-pixel sums of
 //! [`PixelSum`] (integers, so adding parts is associative), the sample
 //! counts, and the [`RenderKey`] that defines the pixels. [`merge()`] adds
-//! any set of parts that partitions `image × samples` exactly, so the
-//! merged image is bit-identical to the one-shot render; it refuses
-//! overlaps, gaps and parts of another render.
+//! parts that cover disjoint `window × samples` cells, so the merged image
+//! is bit-identical to the one-shot render; it refuses overlaps, parts of
+//! another render, and a set whose cells do not join into one window ×
+//! one sample range (the whole image and every sample, or a staged part
+//! of it).
+//!
+//! **Coverage.** A film *owns* the samples `samples` of the pixels of
+//! `window`: those pixels' counts are its. A splatted filter's samples
+//! also reach `border` pixels beyond the window (the filter's
+//! [`splat_margin`](strata::filter::PixelFilter::splat_margin)), so the
+//! film also holds the sums it adds to the pixels of that border (clipped
+//! to the image), with counts of 0: the body covers the *extent*, the
+//! window grown by the border. Overlap and gap checks apply to owned
+//! pixels; sums are added wherever they fall, so a pixel near a part's
+//! edge is complete once its neighbours' parts are merged. Films of
+//! filters that do not splat have no border.
 //!
 //! The format (version 3) is a text header and a binary body:
 //!
@@ -17,9 +30,10 @@
 //! ...                      the RenderKey fields, then:
 //! window=x0,x1,y0,y1       pixels covered, half-open
 //! samples=A..B             sample indices covered, half-open
+//! border=N                 only for N > 0: the extent's border
 //! checksum=<16 hex digits> FNV-1a 64 of the body
 //!                          (an empty line ends the header)
-//! body: one record per window pixel, row-major, 40 bytes each,
+//! body: one record per extent pixel, row-major, 40 bytes each,
 //!       little-endian: weighted sums r, g, b and the filter-weight sum as
 //!       i64 (units of 2^-24), samples u32, dropped u32.
 //! ```
@@ -55,7 +69,7 @@ pub use key::{
     KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_samples, samples_text, version,
     window_text,
 };
-pub use merge::merge;
+pub use merge::{merge, merge_whole};
 
 /// A part of a render: the pixels of `window`, samples `samples` of each.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -66,11 +80,68 @@ pub struct Film {
     pub window: Tile,
     /// The sample indices covered.
     pub samples: Range<u32>,
-    /// One accumulator per window pixel, row-major.
+    /// Pixels beyond the window on each side (clipped to the image) whose
+    /// sums the film holds: a splatted filter's margin, else 0.
+    pub border: u32,
+    /// One accumulator per pixel of the [extent](Film::extent), row-major.
     pub pixels: Vec<PixelSum>,
 }
 
+/// `window` grown by `border` pixels on each side, clipped to a `width ×
+/// height` image.
+#[must_use]
+pub fn extent(window: Tile, border: u32, width: u32, height: u32) -> Tile {
+    let x0 = window.x0.saturating_sub(border);
+    let y0 = window.y0.saturating_sub(border);
+    let x1 = (window.x0 as u64 + window.width as u64 + border as u64).min(width as u64) as u32;
+    let y1 = (window.y0 as u64 + window.height as u64 + border as u64).min(height as u64) as u32;
+    Tile {
+        x0,
+        y0,
+        width: x1.saturating_sub(x0),
+        height: y1.saturating_sub(y0),
+    }
+}
+
+/// The pixels of `inner` (inside `outer`) out of `pixels`, `outer`'s,
+/// row-major.
+#[must_use]
+pub fn cut(pixels: &[PixelSum], outer: Tile, inner: Tile) -> Vec<PixelSum> {
+    let mut out = Vec::with_capacity(inner.area());
+    for y in inner.y0..inner.y0 + inner.height {
+        let row = (y - outer.y0) as usize * outer.width as usize;
+        let at = row + (inner.x0 - outer.x0) as usize;
+        out.extend_from_slice(&pixels[at..at + inner.width as usize]);
+    }
+    out
+}
+
 impl Film {
+    /// The pixels the body covers: the window and its border, clipped to
+    /// the image.
+    #[must_use]
+    pub fn extent(&self) -> Tile {
+        extent(
+            self.window,
+            self.border,
+            self.key.width(),
+            self.key.height(),
+        )
+    }
+
+    /// The accumulators of the window's pixels (the owned ones), row-major.
+    #[must_use]
+    pub fn window_pixels(&self) -> Vec<PixelSum> {
+        cut(&self.pixels, self.extent(), self.window)
+    }
+
+    /// Whether the window's pixels hold every sample that reaches them:
+    /// true without a border, or when the window is the whole image.
+    #[must_use]
+    pub fn window_complete(&self) -> bool {
+        self.border == 0 || self.window == Tile::whole(self.key.width(), self.key.height())
+    }
+
     /// The image metadata of this film encoded with `transfer` (PNG text
     /// chunks, EXR attributes): what defines it, nothing that varies
     /// between runs.
@@ -101,7 +172,16 @@ impl Film {
                 path.display()
             )
         })?;
-        let pixels: Vec<glam::Vec3> = self.pixels.iter().map(|p| p.mean()).collect();
+        if !self.window_complete() {
+            anyhow::bail!(
+                "this film's window {} is part of a splatted render: its edge pixels miss the \
+                 samples of pixels up to {} beyond it, so it is no image yet; merge it with the \
+                 parts around it, or write .film",
+                window_text(self.window),
+                self.border
+            );
+        }
+        let pixels: Vec<glam::Vec3> = self.window_pixels().iter().map(|p| p.mean()).collect();
         image_bytes(
             format,
             self.window.width,

@@ -25,6 +25,7 @@ fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
             adaptive: None,
         },
         window,
+        border: 0,
         pixels: (0..window.area())
             .map(|i| PixelSum {
                 sum: [i as i64, -(i as i64), 1 << 40],
@@ -168,4 +169,132 @@ fn merge_names_the_first_differing_field() {
     let ok = merge(&[a.clone(), film(4, 2, tile(2, 0, 2, 2), 0..8)], &names).unwrap();
     assert_eq!(ok.pixels[0], a.pixels[0]);
     assert_eq!(ok.window, tile(0, 0, 4, 2));
+}
+
+/// `f` with a border of `b` pixels: border pixels hold sums, no samples.
+fn with_border(mut f: Film, b: u32) -> Film {
+    let old = f.window;
+    f.border = b;
+    let e = f.extent();
+    f.pixels = (0..e.area())
+        .map(|i| {
+            let (x, y) = (e.x0 + i as u32 % e.width, e.y0 + i as u32 / e.width);
+            let own = (old.x0..old.x0 + old.width).contains(&x)
+                && (old.y0..old.y0 + old.height).contains(&y);
+            let n = f.samples.end - f.samples.start;
+            PixelSum {
+                sum: [x as i64, y as i64, 3],
+                weight: 1 << 20,
+                samples: if own { n } else { 0 },
+                dropped: 0,
+            }
+        })
+        .collect();
+    f
+}
+
+#[test]
+fn bordered_films_round_trip_and_check_their_border() {
+    // A window at the image's left edge: the border is clipped there.
+    let f = with_border(film(9, 6, tile(0, 2, 3, 2), 2..5), 2);
+    assert_eq!(f.extent(), tile(0, 0, 5, 6));
+    assert_eq!(f.window_pixels().len(), 6);
+    let bytes = f.to_bytes();
+    assert!(String::from_utf8_lossy(&bytes).contains("\nborder=2\n"));
+    assert_eq!(Film::from_bytes(&bytes).unwrap(), f);
+    // No border line without a border: a box film's bytes are as before.
+    let plain = film(9, 6, tile(0, 2, 3, 2), 2..5).to_bytes();
+    assert!(!String::from_utf8_lossy(&plain).contains("border="));
+    // A border pixel that claims samples, and a border no filter has.
+    let mut bad = f.clone();
+    bad.pixels[0].samples = 1;
+    let e = refused(&bad.to_bytes());
+    assert!(
+        e.contains("pixel (0, 0) of the border holds 1 samples"),
+        "{e}"
+    );
+    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=9", 1);
+    let e = refused(text.as_bytes());
+    assert!(e.contains("bad `border`"), "{e}");
+    // Its window is no image yet: its edge pixels miss their neighbours.
+    let e = f
+        .output_bytes(
+            std::path::Path::new("x.png"),
+            crate::image_io::Transfer::Srgb,
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("merge it with the parts around it"), "{e}");
+}
+
+#[test]
+fn staged_merges_join_cells_into_one_window_and_range() {
+    // Four quadrants of an 8 × 6 image, samples 0..8, in two halves of
+    // the samples for the top-left one; borders of 1.
+    let q = |x0, y0, s: Range<u32>| with_border(film(8, 6, tile(x0, y0, 4, 3), s), 1);
+    let parts = [
+        q(0, 0, 0..4),
+        q(0, 0, 4..8),
+        q(4, 0, 0..8),
+        q(0, 3, 0..8),
+        q(4, 3, 0..8),
+    ];
+    let names: Vec<PathBuf> = (0..parts.len())
+        .map(|i| PathBuf::from(format!("p{i}")))
+        .collect();
+    let whole = merge(&parts, &names).unwrap();
+    assert_eq!(
+        (whole.window, whole.samples.clone()),
+        (tile(0, 0, 8, 6), 0..8)
+    );
+    // The top row, then the top-left's two halves first: the same film
+    // in the end, bit for bit, whatever the tree.
+    let left = merge(&parts[..2], &names[..2]).unwrap();
+    assert_eq!(
+        (left.window, left.samples.clone()),
+        (tile(0, 0, 4, 3), 0..8)
+    );
+    assert_eq!(left.extent(), tile(0, 0, 5, 4));
+    let top = merge(&[left, parts[2].clone()], &names[..2]).unwrap();
+    assert_eq!(top.window, tile(0, 0, 8, 3));
+    let again = merge(&[top, parts[3].clone(), parts[4].clone()], &names[..3]).unwrap();
+    assert_eq!(again, whole);
+    // Border sums land in the neighbour: pixel (4, 0) of the whole image
+    // holds its own part's sums and the top-left parts' border sums.
+    let at = |f: &Film, x: usize, y: usize| f.pixels[y * f.extent().width as usize + x];
+    let own = at(&parts[2], 0, 0).weight;
+    let from_left = at(&parts[0], 4, 0).weight + at(&parts[1], 4, 0).weight;
+    assert_eq!(at(&whole, 4, 0).weight, own + from_left);
+    // Cells that do not join into one window × range are refused.
+    let e = merge(&[parts[0].clone(), parts[2].clone()], &names[..2])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("leave a gap in the window x 0..8, y 0..3"),
+        "{e}"
+    );
+    assert!(e.contains("pixel (0, 0) has 4 of those 8 samples"), "{e}");
+    let e = merge(&[parts[0].clone(), parts[3].clone()], &names[..2])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("a staged merge must join"), "{e}");
+    // Spanning the whole image, the gap is the finished film's.
+    let e = merge(&[parts[0].clone(), parts[4].clone()], &names[..2])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the parts leave a gap: pixel (0, 0) has 4 of its 8"),
+        "{e}"
+    );
+    // Another border is another render.
+    let e = merge(
+        &[
+            parts[2].clone(),
+            with_border(film(8, 6, tile(0, 0, 4, 3), 0..8), 2),
+        ],
+        &names[..2],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("has a border of 2 pixels and `p0` of 1"), "{e}");
 }
