@@ -2,7 +2,8 @@
 //! spread over a rayon pool of exactly the requested number of threads.
 //! Pixels do not depend on the thread count, the tile size or the order
 //! in which tiles finish: each tile renders into its own film and the
-//! films are placed, not summed.
+//! films are placed (or, splatted, added in exact integers, whose sums
+//! do not depend on the order).
 
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -109,8 +110,10 @@ pub struct Job<'a> {
     /// Image height.
     pub height: u32,
     /// The pixels to render, inside `width × height` ([`Tile::whole`] for
-    /// all of them). Pixels outside are not traced; a pixel's value does
-    /// not depend on the window.
+    /// all of them). Pixels outside are not traced. A pixel's samples do
+    /// not depend on the window; with a splatted filter a pixel near the
+    /// window's edge also gathers samples of pixels outside it, so it is
+    /// complete only once the parts around it are merged.
     pub window: Tile,
     /// Samples per pixel (the sampler's pattern size).
     pub spp: u32,

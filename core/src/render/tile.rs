@@ -750,7 +750,12 @@ pub fn render_tile_splat<S: Sampler + Clone>(
                             headroom -= r;
                             splat.add_square::<false>(film, first, pw, side);
                         }
-                        _ => splat.add_square::<true>(film, first, pw, side),
+                        _ => {
+                            // Uncharged, this splat may bring a sum near
+                            // i64's end: every later one saturates too.
+                            headroom = 0;
+                            splat.add_square::<true>(film, first, pw, side);
+                        }
                     }
                     film[own].samples = film[own].samples.saturating_add(1);
                 });

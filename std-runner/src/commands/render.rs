@@ -37,7 +37,6 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats,
     } = run(job, &|n| bar.inc(n))?;
     bar.finish_and_clear();
-    let dropped: u64 = pixels.iter().map(|p| p.dropped as u64).sum();
     let mut film = Film {
         key: RenderKey::of(job),
         window: job.window,
@@ -56,6 +55,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             ..film
         };
     }
+    // Samples of the film's own pixels (those of a splatted image's
+    // border are rendered, not kept).
+    let dropped: u64 = film.window_pixels().iter().map(|p| p.dropped as u64).sum();
     plan.write(&film)?;
     say(&plan.summary(&film));
     say(&speed_line(job, wall, stats, dropped));

@@ -138,14 +138,20 @@ impl Film {
         }
         let border = match map.iter().find(|(k, _)| *k == "border") {
             None => 0,
-            Some((_, v)) => match v.parse::<u32>() {
-                Ok(b) if b > 0 && b as f32 <= strata::filter::FILTER_MAX_RADIUS => b,
-                _ => bail!(
-                    "bad `border`: `{v}` is not a splat margin (1 to {})",
-                    strata::filter::FILTER_MAX_RADIUS
-                ),
-            },
+            Some((_, v)) => v
+                .parse::<u32>()
+                .ok()
+                .filter(|&b| b > 0)
+                .with_context(|| format!("bad `border`: `{v}`"))?,
         };
+        let key = RenderKey {
+            fields,
+            width,
+            height,
+            spp,
+            adaptive,
+        };
+        check_border(&key, border)?;
         let extent = super::extent(window, border, width, height);
         let need = extent.area() * BYTES_PER_PIXEL;
         if body.len() != need {
@@ -172,13 +178,6 @@ impl Film {
                 }
             })
             .collect::<Vec<PixelSum>>();
-        let key = RenderKey {
-            fields,
-            width,
-            height,
-            spp,
-            adaptive,
-        };
         let film = Film {
             key,
             window,
@@ -196,6 +195,26 @@ impl Film {
             std::fs::read(path).with_context(|| format!("cannot read `{}`", path.display()))?;
         Film::from_bytes(&bytes).with_context(|| format!("`{}`", path.display()))
     }
+}
+
+/// The film's border is the one its render's filter reaches (checked
+/// before the body's size is trusted, by the caller for a file).
+pub(super) fn check_border(key: &RenderKey, border: u32) -> Result<()> {
+    let want = key
+        .border()
+        .with_context(|| format!("bad `filter`: `{}`", key.get("filter").unwrap_or_default()))?;
+    if border != want {
+        bail!(
+            "a border of {border} pixels where the render's filter (`{}`{}) reaches {want}",
+            key.get("filter").unwrap_or_default(),
+            if key.adaptive.is_some() {
+                ", adaptive"
+            } else {
+                ""
+            }
+        );
+    }
+    Ok(())
 }
 
 /// Every window pixel took every sample of the range, kept or dropped,

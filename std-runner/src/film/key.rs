@@ -126,6 +126,18 @@ impl RenderKey {
             .map(|(_, v)| v.as_str())
     }
 
+    /// The border a film of this render holds around its window: the
+    /// filter's splat margin if the filter splats (and the render is not
+    /// adaptive), else 0; `None` if the filter text does not parse.
+    #[must_use]
+    pub fn border(&self) -> Option<u32> {
+        let filter = parse_filter(self.get("filter")?)?;
+        Some(match filter.splats() && self.adaptive.is_none() {
+            true => filter.splat_margin(),
+            false => 0,
+        })
+    }
+
     /// The first field where `other` differs: (name, ours, theirs).
     #[must_use]
     pub fn first_difference<'a>(
@@ -162,6 +174,37 @@ pub fn filter_text(f: &strata::render::PixelFilter) -> String {
         FilterKind::Lanczos { tau } => format!("lanczos r={r:?} tau={tau:?}"),
         k => format!("{} r={r:?}", k.name()),
     }
+}
+
+/// Parses [`filter_text`] back into the filter.
+pub(super) fn parse_filter(s: &str) -> Option<strata::render::PixelFilter> {
+    use strata::filter::FilterKind;
+    let mut words = s.split(' ');
+    let kind = FilterKind::named(words.next()?)?;
+    let r: f32 = words.next()?.strip_prefix("r=")?.parse().ok()?;
+    let mut value = |name: &str| -> Option<f32> {
+        words
+            .next()?
+            .strip_prefix(name)?
+            .strip_prefix('=')?
+            .parse()
+            .ok()
+    };
+    let kind = match kind {
+        FilterKind::Gaussian { .. } => FilterKind::Gaussian {
+            sigma: value("sigma")?,
+        },
+        FilterKind::Mitchell { .. } => FilterKind::Mitchell {
+            b: value("b")?,
+            c: value("c")?,
+        },
+        FilterKind::Lanczos { .. } => FilterKind::Lanczos { tau: value("tau")? },
+        k => k,
+    };
+    if words.next().is_some() {
+        return None;
+    }
+    strata::render::PixelFilter::new(kind, r).ok()
 }
 
 /// Adaptive sampling as text: `off`, or `threshold=T min=N max=M`.

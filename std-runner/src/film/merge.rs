@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use strata::render::{PixelSum, Tile};
 
 use super::Film;
-use super::format::check_counts;
+use super::format::{check_border, check_counts};
 
 /// Merges parts whose cells (`window × samples`) are disjoint and join
 /// into one window × one sample range: the whole image and every sample
@@ -64,7 +64,9 @@ fn merge_cells(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Fi
                 name(i)
             );
         }
-        check_counts(p).with_context(|| format!("`{}` is inconsistent", name(i)))?;
+        check_border(&p.key, p.border)
+            .and_then(|()| check_counts(p))
+            .with_context(|| format!("`{}` is inconsistent", name(i)))?;
     }
     let cols = |t: &Tile| t.x0..t.x0 + t.width;
     let rows = |t: &Tile| t.y0..t.y0 + t.height;

@@ -6,13 +6,15 @@ use std::path::PathBuf;
 
 use strata::render::{PixelSum, Tile};
 
-use super::{Film, KEY_FIELDS, RenderKey, merge};
+use super::key::parse_filter;
+use super::{Film, KEY_FIELDS, RenderKey, filter_text, merge};
 
 fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
     let job_key = |k: &str| match k {
         "size" => format!("{width}x{height}"),
         "spp" => "8".to_string(),
         "adaptive" => "off".to_string(),
+        "filter" => "box r=0.5".to_string(),
         _ => format!("{k}-value"),
     };
     let n = samples.end - samples.start;
@@ -171,10 +173,19 @@ fn merge_names_the_first_differing_field() {
     assert_eq!(ok.window, tile(0, 0, 4, 2));
 }
 
-/// `f` with a border of `b` pixels: border pixels hold sums, no samples.
-fn with_border(mut f: Film, b: u32) -> Film {
+/// Mitchell–Netravali (B = C = ⅓) of radius `r` splats with a border of
+/// ⌈r + ½⌉ − 1.
+fn mitchell(r: f32) -> String {
+    format!("mitchell r={r:?} b={:?} c={:?}", 1.0f32 / 3.0, 1.0f32 / 3.0)
+}
+
+/// `f` as a render of Mitchell–Netravali of radius `r`, with its border:
+/// border pixels hold sums, no samples.
+fn with_border(mut f: Film, r: f32) -> Film {
     let old = f.window;
-    f.border = b;
+    let at = f.key.fields.iter().position(|x| x.0 == "filter").unwrap();
+    f.key.fields[at].1 = mitchell(r);
+    f.border = f.key.border().unwrap();
     let e = f.extent();
     f.pixels = (0..e.area())
         .map(|i| {
@@ -196,7 +207,8 @@ fn with_border(mut f: Film, b: u32) -> Film {
 #[test]
 fn bordered_films_round_trip_and_check_their_border() {
     // A window at the image's left edge: the border is clipped there.
-    let f = with_border(film(9, 6, tile(0, 2, 3, 2), 2..5), 2);
+    let f = with_border(film(9, 6, tile(0, 2, 3, 2), 2..5), 2.0);
+    assert_eq!(f.border, 2);
     assert_eq!(f.extent(), tile(0, 0, 5, 6));
     assert_eq!(f.window_pixels().len(), 6);
     let bytes = f.to_bytes();
@@ -213,9 +225,19 @@ fn bordered_films_round_trip_and_check_their_border() {
         e.contains("pixel (0, 0) of the border holds 1 samples"),
         "{e}"
     );
-    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=9", 1);
+    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=3", 1);
     let e = refused(text.as_bytes());
-    assert!(e.contains("bad `border`"), "{e}");
+    assert!(
+        e.contains("a border of 3 pixels where the render's filter (`mitchell r=2.0"),
+        "{e}"
+    );
+    assert!(e.contains(") reaches 2"), "{e}");
+    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=x", 1);
+    assert!(refused(text.as_bytes()).contains("bad `border`: `x`"));
+    let mut boxed = film(9, 6, tile(0, 2, 3, 2), 2..5);
+    boxed.border = 2;
+    let e = format!("{:#}", merge(&[boxed], &[PathBuf::from("b")]).unwrap_err());
+    assert!(e.contains("`b` is inconsistent: a border of 2 pixels where the render's filter (`box r=0.5`) reaches 0"), "{e}");
     // Its window is no image yet: its edge pixels miss their neighbours.
     let e = f
         .output_bytes(
@@ -231,7 +253,7 @@ fn bordered_films_round_trip_and_check_their_border() {
 fn staged_merges_join_cells_into_one_window_and_range() {
     // Four quadrants of an 8 × 6 image, samples 0..8, in two halves of
     // the samples for the top-left one; borders of 1.
-    let q = |x0, y0, s: Range<u32>| with_border(film(8, 6, tile(x0, y0, 4, 3), s), 1);
+    let q = |x0, y0, s: Range<u32>| with_border(film(8, 6, tile(x0, y0, 4, 3), s), 1.0);
     let parts = [
         q(0, 0, 0..4),
         q(0, 0, 4..8),
@@ -286,15 +308,41 @@ fn staged_merges_join_cells_into_one_window_and_range() {
         e.contains("the parts leave a gap: pixel (0, 0) has 4 of its 8"),
         "{e}"
     );
-    // Another border is another render.
+    // Another border comes from another filter: another render.
     let e = merge(
         &[
             parts[2].clone(),
-            with_border(film(8, 6, tile(0, 0, 4, 3), 0..8), 2),
+            with_border(film(8, 6, tile(0, 0, 4, 3), 0..8), 2.0),
         ],
         &names[..2],
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("has a border of 2 pixels and `p0` of 1"), "{e}");
+    assert!(
+        e.contains("`p1` is from another render than `p0`: filter"),
+        "{e}"
+    );
+}
+
+#[test]
+fn filter_texts_parse_back_to_their_filters() {
+    use strata::filter::{FilterKind, PixelFilter};
+    for kind in FilterKind::ALL {
+        for r in [kind.default_radius(), 2.7, 0.3] {
+            let Ok(f) = PixelFilter::new(kind, r) else {
+                continue;
+            };
+            assert_eq!(parse_filter(&filter_text(&f)), Some(f), "{kind:?} r={r}");
+        }
+    }
+    for bad in [
+        "",
+        "box",
+        "box r=x",
+        "lanczos r=3.0",
+        "box r=0.5 extra",
+        "sinc r=1.0",
+    ] {
+        assert_eq!(parse_filter(bad), None, "{bad}");
+    }
 }
