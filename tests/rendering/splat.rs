@@ -286,61 +286,77 @@ fn a_splatted_image_is_every_sample_added_where_its_filter_reaches() {
     use strata::render::{Camera, RenderSettings, Splat, TextureFilter, pixel_sample};
     let data = built_in("cover").unwrap();
     let (w, h, spp) = (14u32, 9u32, 4u32);
-    let f = PixelFilter::new(FilterKind::named("lanczos").unwrap(), 2.5).unwrap();
-    let job = Job {
-        sampler: SamplerKind::Sobol,
-        seed: 11,
-        filter: f,
-        max_depth: 4,
-        ..Job::new(&data, w, h, spp)
-    };
-    let got = run(&job, &|_| {}).unwrap().pixels;
-    let camera = Camera::new(&data.camera, w, h).unwrap();
-    let settings = RenderSettings {
-        max_depth: 4,
-        direct_lighting: true,
-        filter: PixelFilter::BOX,
-        texture_filter: TextureFilter::None,
-    };
-    let m = f.splat_margin() as i64;
-    assert_eq!(m, 2);
-    let mut want = vec![PixelSum::ZERO; (w * h) as usize];
-    let sampler = strata::Sobol::new(spp, 11).unwrap();
-    data.with_scene(|scene| {
-        for py in 0..h {
-            for px in 0..w {
-                let p = UVec2::new(px, py);
-                for i in 0..spp {
-                    let mut s = sampler.clone();
-                    s.start_pixel_sample(p, i);
-                    let u = s.pixel_2d();
-                    let (l, _) = pixel_sample(scene, &camera, &mut s, &settings, p, i);
-                    let splat = Splat::new(&f, u, l).unwrap();
-                    for dy in 0..=2 * m {
-                        for dx in 0..=2 * m {
-                            let (qx, qy) = (px as i64 + dx - m, py as i64 + dy - m);
-                            if (0..w as i64).contains(&qx) && (0..h as i64).contains(&qy) {
-                                let q = &mut want[(qy * w as i64 + qx) as usize];
-                                splat.add_to(q, dx as usize, dy as usize, dx == m && dy == m);
+    // Lanczos reaching 2 pixels; Mitchell of radius 0.4, whose peak (4.4
+    // per axis) is beyond the splat's plain-multiply bound, so samples
+    // near a pixel's centre take the saturating path and the others not.
+    for (f, margin) in [
+        (
+            PixelFilter::new(FilterKind::named("lanczos").unwrap(), 2.5).unwrap(),
+            2,
+        ),
+        (
+            PixelFilter::new(FilterKind::named("mitchell").unwrap(), 0.4).unwrap(),
+            0,
+        ),
+    ] {
+        let job = Job {
+            sampler: SamplerKind::Sobol,
+            seed: 11,
+            filter: f,
+            max_depth: 4,
+            ..Job::new(&data, w, h, spp)
+        };
+        let got = run(&job, &|_| {}).unwrap().pixels;
+        let camera = Camera::new(&data.camera, w, h).unwrap();
+        let settings = RenderSettings {
+            max_depth: 4,
+            direct_lighting: true,
+            filter: PixelFilter::BOX,
+            texture_filter: TextureFilter::None,
+        };
+        let m = f.splat_margin() as i64;
+        assert_eq!(m, margin);
+        // Beyond ±4 per axis (2¹⁴ in the splat's fixed point) a splat is
+        // not `small`: Mitchell's centre is, Lanczos's never.
+        assert_eq!(f.eval_axis(0.0) > 4.0, margin == 0);
+        let mut want = vec![PixelSum::ZERO; (w * h) as usize];
+        let sampler = strata::Sobol::new(spp, 11).unwrap();
+        data.with_scene(|scene| {
+            for py in 0..h {
+                for px in 0..w {
+                    let p = UVec2::new(px, py);
+                    for i in 0..spp {
+                        let mut s = sampler.clone();
+                        s.start_pixel_sample(p, i);
+                        let u = s.pixel_2d();
+                        let (l, _) = pixel_sample(scene, &camera, &mut s, &settings, p, i);
+                        let splat = Splat::new(&f, u, l).unwrap();
+                        for dy in 0..=2 * m {
+                            for dx in 0..=2 * m {
+                                let (qx, qy) = (px as i64 + dx - m, py as i64 + dy - m);
+                                if (0..w as i64).contains(&qx) && (0..h as i64).contains(&qy) {
+                                    let q = &mut want[(qy * w as i64 + qx) as usize];
+                                    splat.add_to(q, dx as usize, dy as usize, dx == m && dy == m);
+                                }
                             }
                         }
                     }
                 }
             }
-        }
-    })
-    .unwrap();
-    assert!(got == want);
-    // And the image is not trivially the box's.
-    let boxed = run(
-        &Job {
-            filter: PixelFilter::BOX,
-            ..job
-        },
-        &|_| {},
-    )
-    .unwrap()
-    .pixels;
-    assert!(got.iter().zip(&boxed).all(|(a, b)| a.samples == b.samples));
-    assert!(got != boxed);
+        })
+        .unwrap();
+        assert!(got == want);
+        // And the image is not trivially the box's.
+        let boxed = run(
+            &Job {
+                filter: PixelFilter::BOX,
+                ..job
+            },
+            &|_| {},
+        )
+        .unwrap()
+        .pixels;
+        assert!(got.iter().zip(&boxed).all(|(a, b)| a.samples == b.samples));
+        assert!(got != boxed);
+    }
 }
