@@ -808,6 +808,7 @@ fn split_renders_merge_into_the_one_shot_image() {
             e.contains("the parts leave a gap: pixel (0, 0) has 0 of its 6"),
             "{e}"
         );
+        assert!(e.contains("a .film output may be a staged part"), "{e}");
         ok(d, &["merge", "right.film", "left.film", "-o", "staged.png"]);
         assert_eq!(bytes(&d.join("staged.png")), bytes(&d.join("full.png")));
         // A crop rendered straight to an image is the window's pixels of

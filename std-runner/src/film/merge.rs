@@ -142,8 +142,12 @@ fn merge_cells(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Fi
             y0 as usize + at / window.width as usize,
         );
         if whole {
+            let hint = match whole_only {
+                true => " (an image needs the whole render; a .film output may be a staged part)",
+                false => "",
+            };
             bail!(
-                "the parts leave a gap: pixel ({x}, {y}) has {} of its {spp} samples",
+                "the parts leave a gap: pixel ({x}, {y}) has {} of its {spp} samples{hint}",
                 covered[at]
             );
         }
