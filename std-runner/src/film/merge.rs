@@ -42,15 +42,6 @@ fn merge_cells(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Fi
                 name(0)
             );
         }
-        if p.border != first.border {
-            bail!(
-                "`{}` has a border of {} pixels and `{}` of {}: films of one render have one",
-                name(i),
-                p.border,
-                name(0),
-                first.border
-            );
-        }
     }
     let (w, h, spp) = (first.key.width(), first.key.height(), first.key.spp());
     // Films built in code rather than read: the same checks as `from_bytes`.
@@ -114,6 +105,7 @@ fn merge_cells(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Fi
         width: x1 - x0,
         height: y1 - y0,
     };
+    // One key, one border: each part's is checked against the key.
     let border = first.border;
     let out = super::extent(window, border, w, h);
     let mut pixels = vec![PixelSum::ZERO; out.area()];
