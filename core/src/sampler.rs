@@ -117,6 +117,35 @@ pub trait Sampler {
 
     /// The next two dimensions, in `[0, 1)²`.
     fn next_2d(&mut self) -> Vec2;
+
+    /// Skips the next dimension: the sampler is left where
+    /// [`Sampler::next_1d`] would leave it, so every later dimension keeps
+    /// its value, but the value is not made (a path vertex that does not
+    /// use a dimension skips it; samplers that can jump do so for less).
+    ///
+    /// ```
+    /// use glam::UVec2;
+    /// use strata::sampler::{Independent, Sampler};
+    /// let (mut a, mut b) = (Independent::new(4, 9).unwrap(), Independent::new(4, 9).unwrap());
+    /// a.start_pixel_sample(UVec2::new(1, 2), 3);
+    /// b.start_pixel_sample(UVec2::new(1, 2), 3);
+    /// a.next_1d();
+    /// a.next_2d();
+    /// b.skip_1d();
+    /// b.skip_2d();
+    /// assert_eq!(a.next_2d(), b.next_2d());
+    /// ```
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.next_1d();
+    }
+
+    /// Skips the next two dimensions as [`Sampler::next_2d`] takes them
+    /// (see [`Sampler::skip_1d`]).
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.next_2d();
+    }
 }
 
 /// The `(nx, ny)` grid of `spp` strata closest to square, `nx ≥ ny`,
@@ -366,6 +395,17 @@ impl Sampler for Independent {
         let x = u32_to_unit_f32(self.rng.next_u32());
         let y = u32_to_unit_f32(self.rng.next_u32());
         Vec2::new(x, y)
+    }
+
+    // One LCG step per dimension, without the output permutation.
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.rng.advance(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.rng.advance(2);
     }
 }
 
@@ -635,6 +675,26 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.dimension = self.dimension.wrapping_add(2);
         self.point_2d(stratum)
     }
+
+    /// Skips `n` coordinates: the dimension and the jitter words move, no
+    /// stratum is looked up.
+    #[inline]
+    fn skip(&mut self, n: u32) {
+        self.dimension = self.dimension.wrapping_add(n);
+        if JITTER {
+            self.rng.advance(u64::from(n));
+        }
+    }
+
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.skip(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.skip(2);
+    }
 }
 
 /// The lecture's unjittered stratified pattern: every sample at the centre
@@ -689,6 +749,14 @@ impl Sampler for UniformGrid {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         self.0.next_2d()
+    }
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.0.skip_1d();
+    }
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.0.skip_2d();
     }
 }
 
@@ -749,6 +817,14 @@ impl Sampler for Stratified {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         self.0.next_2d()
+    }
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.0.skip_1d();
+    }
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.0.skip_2d();
     }
 }
 
@@ -923,6 +999,18 @@ impl Sampler for Sobol {
         }
         let k = d as usize % sobol::BLOCK;
         Vec2::new(self.values[k], self.values[k | 1])
+    }
+
+    // Only the dimension moves: a block is filled when a value is read.
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
     }
 }
 
@@ -1163,6 +1251,16 @@ impl Sampler for Halton {
         self.dimension = d.wrapping_add(2);
         Vec2::new(self.value(d), self.value(d.wrapping_add(1)))
     }
+
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(2);
+    }
 }
 
 #[cfg(test)]
@@ -1336,6 +1434,53 @@ mod tests {
             assert_eq!(ind.pixel_2d(), st.pixel_2d());
             assert_eq!(ind.next_1d(), st.next_1d());
             assert_eq!(ind.next_2d(), st.next_2d());
+        }
+    }
+
+    /// Skipping a dimension leaves every sampler where drawing it would:
+    /// random runs of draws and skips (1D and 2D, odd and even starts,
+    /// across the samplers' blocks) against the same runs drawn.
+    fn check_skips<S: Sampler + Clone>(prototype: S) {
+        let mut state = 0x2545_f491_u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state
+        };
+        for sample in 0..64u32 {
+            let pixel = UVec2::new(next() % 7, next() % 5);
+            let (mut drawn, mut skipped) = (prototype.clone(), prototype.clone());
+            drawn.start_pixel_sample(pixel, sample);
+            skipped.start_pixel_sample(pixel, sample);
+            for _ in 0..40 {
+                let (two, skip) = (next() % 2 == 0, next() % 3 != 0);
+                match (two, skip) {
+                    (false, false) => assert_eq!(drawn.next_1d(), skipped.next_1d()),
+                    (true, false) => assert_eq!(drawn.next_2d(), skipped.next_2d()),
+                    (false, true) => {
+                        drawn.next_1d();
+                        skipped.skip_1d();
+                    }
+                    (true, true) => {
+                        drawn.next_2d();
+                        skipped.skip_2d();
+                    }
+                }
+            }
+            assert_eq!(drawn.next_2d(), skipped.next_2d());
+        }
+    }
+
+    #[test]
+    fn skipped_dimensions_leave_every_sampler_where_drawing_would() {
+        for spp in [1, 4, 7, 16] {
+            check_skips(Independent::new(spp, 3).unwrap());
+            check_skips(UniformGrid::new(spp, 3).unwrap());
+            check_skips(Stratified::new(spp, 3).unwrap());
+            check_skips(Sobol::new(spp, 3).unwrap());
+            check_skips(Halton::new(spp, 3).unwrap());
+            check_skips(ZSobol::new(spp, 3, UVec2::new(7, 5)).unwrap());
         }
     }
 }

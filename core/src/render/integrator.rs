@@ -249,13 +249,29 @@ pub(crate) fn trace_path<S: Sampler>(
         {
             surf.footprint = footprint(&surf, d);
         }
-        let u_scatter = sampler.next_2d();
-        let u_lobe = sampler.next_1d();
-        let u_choice = sampler.next_1d();
-        let u_light = sampler.next_2d();
+        // Six dimensions a vertex; those it does not read are skipped, not
+        // made (their indices stay put).
+        let (reads_u, reads_lobe) = material.reads();
+        let u_scatter = if reads_u {
+            sampler.next_2d()
+        } else {
+            sampler.skip_2d();
+            Vec2::ZERO
+        };
+        let u_lobe = if reads_lobe {
+            sampler.next_1d()
+        } else {
+            sampler.skip_1d();
+            0.0
+        };
         if nee && material.is_smooth() {
+            let u_choice = sampler.next_1d();
+            let u_light = sampler.next_2d();
             radiance +=
                 throughput * direct_light(scene, scratch, &ray, h, &surf, u_choice, u_light);
+        } else {
+            sampler.skip_1d();
+            sampler.skip_2d();
         }
         let Some(s) = material.sample(ray.dir, &surf, u_scatter, u_lobe) else {
             break;

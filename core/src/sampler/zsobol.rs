@@ -497,6 +497,16 @@ impl Sampler for ZSobol {
         self.dimension = d.wrapping_add(2);
         self.value_2d(d)
     }
+
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(2);
+    }
 }
 
 #[cfg(test)]

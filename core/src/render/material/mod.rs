@@ -480,6 +480,20 @@ impl<'a> Material<'a> {
         }
     }
 
+    /// Which of [`Material::sample`]'s random inputs it reads: `(u,
+    /// u_lobe)`. The integrator skips the dimensions of the others (they
+    /// keep their indices), so a value it would not read is never made.
+    #[inline]
+    pub(crate) fn reads(&self) -> (bool, bool) {
+        match self.family() {
+            Family::Specular(Specular::Mirror { .. }) => (false, false),
+            Family::Specular(Specular::Metal { .. }) => (true, false),
+            Family::Specular(Specular::Dielectric { .. }) => (false, true),
+            Family::Diffuse(_) | Family::Phong(_) | Family::Microfacet(_) => (true, false),
+            Family::Emissive(_) => (false, false),
+        }
+    }
+
     /// Whether the material has a smooth lobe that [`Material::eval`] can
     /// evaluate (and so takes direct lighting).
     #[inline]
@@ -598,3 +612,84 @@ const HIT: SurfaceHit = SurfaceHit {
     uv: Vec2::ZERO,
     footprint: Vec3::ZERO,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`Material::reads`] is honest: what `sample` does not read cannot
+    /// change its result, for every variant, from many directions.
+    #[test]
+    fn sample_ignores_the_inputs_it_does_not_read() {
+        let t = Texture::Solid(Vec3::new(0.8, 0.5, 0.3));
+        let materials = [
+            Material::Lambertian { albedo: t },
+            Material::Mirror { albedo: Vec3::ONE },
+            Material::Metal {
+                albedo: Vec3::ONE,
+                roughness: 0.3,
+            },
+            Material::Dielectric { ior: 1.5 },
+            Material::Phong {
+                albedo: t,
+                kd: 0.5,
+                ks: 0.5,
+                exponent: 20.0,
+            },
+            Material::Blinn {
+                albedo: t,
+                kd: 0.5,
+                ks: 0.5,
+                exponent: 20.0,
+            },
+            Material::PhongNormalized {
+                albedo: t,
+                kd: 0.5,
+                ks: 0.5,
+                exponent: 20.0,
+            },
+            Material::BlinnNormalized {
+                albedo: t,
+                kd: 0.5,
+                ks: 0.5,
+                exponent: 20.0,
+            },
+            Material::CookTorrance {
+                albedo: t,
+                kd: 0.5,
+                ks: 0.5,
+                alpha: 0.3,
+                ior: 1.5,
+            },
+            Material::DiffuseLight { emit: Vec3::ONE },
+        ];
+        let bits = |s: Option<BsdfSample>| {
+            s.map(|s| {
+                (
+                    s.wi.to_array().map(f32::to_bits),
+                    s.weight.to_array().map(f32::to_bits),
+                )
+            })
+        };
+        let mut read = [false; 2];
+        for m in &materials {
+            m.validate().unwrap();
+            let (reads_u, reads_lobe) = m.reads();
+            read[0] |= reads_u;
+            read[1] |= reads_lobe;
+            for k in 0..64 {
+                let a = k as f32 / 64.0;
+                let d = Vec3::new(a - 0.5, -1.0, 0.3 * a).normalize();
+                let (u, lobe) = (Vec2::new(a, 1.0 - a * a), (k * 37 % 64) as f32 / 64.0);
+                let base = bits(m.sample(d, &HIT, u, lobe));
+                let other_u = Vec2::new(0.9 - 0.8 * a, a * 0.7);
+                let other_lobe = 1.0 - lobe - 1.0 / 128.0;
+                let changed_u = base != bits(m.sample(d, &HIT, other_u, lobe));
+                let changed_lobe = base != bits(m.sample(d, &HIT, u, other_lobe));
+                assert!(reads_u || !changed_u, "{m:?} reads u");
+                assert!(reads_lobe || !changed_lobe, "{m:?} reads u_lobe");
+            }
+        }
+        assert_eq!(read, [true, true]);
+    }
+}

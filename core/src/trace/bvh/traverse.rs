@@ -204,6 +204,7 @@ impl Bvh<'_> {
         let slab = SlabRay::new(ray);
         stack[0] = (root, f32::NEG_INFINITY);
         let mut sp = 1;
+
         // The closest t so far (t_max before any hit): children entered
         // beyond it are skipped, entered at it are kept.
         let mut far = best.map_or(ray.t_max, |h| h.t);
@@ -216,18 +217,26 @@ impl Bvh<'_> {
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
-                let ts = self.leaf_t(start, count, ray).to_array();
-                for (lane, &t) in ts.iter().enumerate().take(count) {
-                    if t < f32::INFINITY {
-                        let id = self.ids[start + lane];
-                        let take = match best {
-                            Some(b) => t < b.t || (t == b.t && id < b.sphere),
-                            None => true,
-                        };
-                        if take {
-                            *best = Some(Hit { t, sphere: id });
-                            far = t;
-                        }
+                let t = self.leaf_t(start, count, ray);
+                // Only lanes that hit at or before the closest so far can
+                // be taken: most leaves have none.
+                let inf = f32x8::splat(f32::INFINITY);
+                let mut hits = lanes_bitmask(lanes_le(t, f32x8::splat(far)) & lanes_lt(t, inf));
+                if hits == 0 {
+                    continue;
+                }
+                let ts = t.to_array();
+                while hits != 0 {
+                    let lane = hits.trailing_zeros() as usize;
+                    hits &= hits - 1;
+                    let (t, id) = (ts[lane], self.ids[start + lane]);
+                    let take = match best {
+                        Some(b) => t < b.t || (t == b.t && id < b.sphere),
+                        None => true,
+                    };
+                    if take {
+                        *best = Some(Hit { t, sphere: id });
+                        far = t;
                     }
                 }
                 continue;
@@ -238,6 +247,13 @@ impl Bvh<'_> {
                 continue;
             }
             let tn = tn.to_array();
+            if bits & (bits - 1) == 0 {
+                // One child: nothing to order.
+                let lane = bits.trailing_zeros() as usize;
+                stack[sp] = (node.child[lane], tn[lane]);
+                sp += 1;
+                continue;
+            }
             // Push far to near, so the nearest child is popped first.
             let mut order = [(0.0f32, 0u32); 8];
             let mut k = 0;
@@ -273,6 +289,7 @@ impl Bvh<'_> {
         let slab = SlabRay::new(ray);
         stack[0] = 0;
         let mut sp = 1;
+
         while sp > 0 {
             sp -= 1;
             let entry = stack[sp];
@@ -371,6 +388,7 @@ impl Bvh<'_> {
         let inv = [inv8(packet.dx), inv8(packet.dy), inv8(packet.dz)];
         stack[0] = (0, active as u8);
         let mut sp = 1;
+
         while sp > 0 {
             sp -= 1;
             let (entry, mask) = stack[sp];
