@@ -122,6 +122,7 @@ pub mod render;
 pub mod rng;
 pub mod sampler;
 pub mod trace;
+mod trig;
 
 pub use onb::Onb;
 pub use sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};

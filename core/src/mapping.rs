@@ -32,6 +32,7 @@ use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
 use glam::{Vec2, Vec3};
 
 use crate::rng::ONE_MINUS_EPSILON;
+use crate::trig::{sin_cos_pi_quarter, sin_cos_turn};
 
 mod piecewise;
 pub mod rejection;
@@ -66,7 +67,7 @@ fn azimuth_fraction(x: f32, y: f32) -> f32 {
 #[inline]
 fn spherical(z: f32, u_phi: f32) -> Vec3 {
     let r = safe_sqrt(1.0 - z * z);
-    let (sin, cos) = libm::sincosf(TAU * u_phi);
+    let (sin, cos) = sin_cos_turn(u_phi);
     Vec3::new(r * cos, r * sin, z)
 }
 
@@ -229,14 +230,15 @@ pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
         return Vec2::ZERO;
     }
     // Which of the four triangles of the square holds (a, b) decides
-    // whether a or b is the radius.
-    let (r, theta) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * (b / a))
+    // whether a or b is the radius: θ = π/4 · b/a, or π/2 − π/4 · a/b,
+    // whose sine and cosine are the cosine and sine of π/4 · a/b.
+    if a.abs() > b.abs() {
+        let (sin, cos) = sin_cos_pi_quarter(0.25 * (b / a));
+        Vec2::new(a * cos, a * sin)
     } else {
-        (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
-    };
-    let (sin, cos) = libm::sincosf(theta);
-    Vec2::new(r * cos, r * sin)
+        let (sin, cos) = sin_cos_pi_quarter(0.25 * (a / b));
+        Vec2::new(b * sin, b * cos)
+    }
 }
 
 /// The density of [`sample_concentric_disk`]: `1 / π` per unit area inside
@@ -305,7 +307,7 @@ pub fn invert_concentric_disk(p: Vec2) -> Vec2 {
 #[must_use]
 pub fn sample_polar_disk(u: Vec2) -> Vec2 {
     let r = safe_sqrt(u.x);
-    let (sin, cos) = libm::sincosf(TAU * u.y);
+    let (sin, cos) = sin_cos_turn(u.y);
     Vec2::new(r * cos, r * sin)
 }
 
@@ -450,7 +452,7 @@ fn one_minus_z(w: Vec3) -> f32 {
 pub fn sample_uniform_cone(u: Vec2, cone: Cone) -> Vec3 {
     let omz = u.x * cone.one_minus_cos;
     let sin_theta = safe_sqrt(omz * (2.0 - omz));
-    let (sin, cos) = libm::sincosf(TAU * u.y);
+    let (sin, cos) = sin_cos_turn(u.y);
     Vec3::new(sin_theta * cos, sin_theta * sin, 1.0 - omz)
 }
 

@@ -2,11 +2,13 @@
 //! from it: the `ρ kd/π` base under their lobes and the cosine-hemisphere
 //! sampler, exact for the Lambertian and unbiased for the glossy lobes.
 
-use core::f32::consts::{FRAC_1_PI, PI};
+use core::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
 
-use super::{BsdfSample, Feed, Lobe, MaterialError, Shading, check, non_negative, texture_ok};
+use super::{
+    BsdfSample, Feed, Lobe, MaterialError, Shading, SurfaceHit, check, non_negative, texture_ok,
+};
 use crate::mapping::{pdf_cosine_hemisphere, sample_cosine_hemisphere};
 use crate::onb::Onb;
 use crate::render::texture::Texture;
@@ -25,6 +27,14 @@ impl Lambertian<'_> {
     #[inline]
     pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
         s.albedo(&self.albedo) * FRAC_1_PI
+    }
+
+    /// A cosine sample, whose weight `f cos θ / pdf` is the albedo itself:
+    /// taken as it is, not through `ρ/π · π`.
+    #[inline]
+    pub(super) fn sample(&self, hit: &SurfaceHit, u: Vec2) -> Option<BsdfSample> {
+        let rho = self.albedo.filtered(hit.uv, hit.p, hit.footprint);
+        sample_cosine(hit.n, u, |_| rho)
     }
 
     pub(super) fn content(&self, out: &mut Feed<'_>) {
@@ -49,13 +59,13 @@ pub(super) fn base(rho: Vec3, kd: f32) -> Vec3 {
 }
 
 /// Draws `L` from the cosine hemisphere around `n` and weights it by
-/// `f cos θ / pdf = π f`, with `brdf` giving `f` at the drawn direction;
-/// `None` on the rim, where the density is 0.
+/// `f cos θ / pdf = π f`, with `weight` giving that at the drawn
+/// direction; `None` on the rim, where the density is 0.
 #[inline]
 pub(super) fn sample_cosine(
     n: Vec3,
     u: Vec2,
-    brdf: impl FnOnce(Vec3) -> Vec3,
+    weight: impl FnOnce(Vec3) -> Vec3,
 ) -> Option<BsdfSample> {
     let local = sample_cosine_hemisphere(u);
     let pdf = pdf_cosine_hemisphere(local);
@@ -63,8 +73,7 @@ pub(super) fn sample_cosine(
         return None;
     }
     let wi = Onb::from_normal(n).to_world(local);
-    // f cos θ / pdf with pdf = cos θ / π.
-    let weight = brdf(wi) * PI;
+    let weight = weight(wi);
     Some(BsdfSample {
         wi,
         weight,

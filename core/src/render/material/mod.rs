@@ -50,7 +50,7 @@ mod microfacet;
 mod phong;
 mod specular;
 
-use core::f32::consts::FRAC_1_PI;
+use core::f32::consts::{FRAC_1_PI, PI};
 
 use glam::{Vec2, Vec3};
 
@@ -568,10 +568,11 @@ impl<'a> Material<'a> {
     pub fn sample(&self, d: Vec3, hit: &SurfaceHit, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
         match self.family() {
             Family::Specular(m) => m.sample(d, hit, u, u_lobe),
+            Family::Diffuse(m) => m.sample(hit, u),
             // Every smooth lobe is sampled by the cosine: its BRDF is
-            // evaluated at the drawn direction.
-            Family::Diffuse(_) | Family::Phong(_) | Family::Microfacet(_) => {
-                diffuse::sample_cosine(hit.n, u, |wi| self.brdf(d, hit, wi))
+            // evaluated at the drawn direction; f cos θ / pdf = π f.
+            Family::Phong(_) | Family::Microfacet(_) => {
+                diffuse::sample_cosine(hit.n, u, |wi| self.brdf(d, hit, wi) * PI)
             }
             Family::Emissive(_) => None,
         }
