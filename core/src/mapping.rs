@@ -174,17 +174,21 @@ pub fn invert_uniform_hemisphere(w: Vec3) -> Vec2 {
 #[inline]
 #[must_use]
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = sample_concentric_disk(u);
-    let z = safe_sqrt(1.0 - d.x * d.x - d.y * d.y);
+    let (r, d) = concentric(u);
+    // z from the disk radius, not from the rounded point: only a radius of
+    // exactly 1 (u on the square's edge) lands on the rim, and z keeps
+    // its accuracy there (√((1 − r)(1 + r)), where 1 − r is exact).
+    let z = safe_sqrt((1.0 - r) * (1.0 + r));
     Vec3::new(d.x, d.y, z)
 }
 
 /// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
 /// steradian where `w.z ≥ 0`, else `0` (and `0` for NaN).
 ///
-/// A sample exactly on the rim (`w.z = 0`; about 6 in 10⁸ uniform `u`,
-/// more on the square's edges) has density 0 and contributes nothing: an
-/// estimator must skip samples whose pdf is 0 rather than divide by it.
+/// A sample exactly on the rim (`w.z = 0`: `u` on the edge of the
+/// square where a coordinate is 0 and dominates, about 1 in 10⁷ uniform
+/// `u`) has density 0 and contributes nothing: an estimator must skip
+/// samples whose pdf is 0 rather than divide by it.
 #[doc(alias = "square_to_cosine_hemisphere_pdf")]
 #[inline]
 #[must_use]
@@ -224,20 +228,27 @@ pub fn invert_cosine_hemisphere(w: Vec3) -> Vec2 {
 #[inline]
 #[must_use]
 pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
+    concentric(u).1
+}
+
+/// The concentric map's point and its radius `|r|` (taken as it is, not
+/// from the rounded point).
+#[inline(always)]
+fn concentric(u: Vec2) -> (f32, Vec2) {
     let a = 2.0 * u.x - 1.0;
     let b = 2.0 * u.y - 1.0;
     if a == 0.0 && b == 0.0 {
-        return Vec2::ZERO;
+        return (0.0, Vec2::ZERO);
     }
     // Which of the four triangles of the square holds (a, b) decides
     // whether a or b is the radius: θ = π/4 · b/a, or π/2 − π/4 · a/b,
     // whose sine and cosine are the cosine and sine of π/4 · a/b.
     if a.abs() > b.abs() {
         let (sin, cos) = sin_cos_pi_quarter(0.25 * (b / a));
-        Vec2::new(a * cos, a * sin)
+        (a.abs(), Vec2::new(a * cos, a * sin))
     } else {
         let (sin, cos) = sin_cos_pi_quarter(0.25 * (a / b));
-        Vec2::new(b * sin, b * cos)
+        (b.abs(), Vec2::new(b * sin, b * cos))
     }
 }
 
