@@ -344,7 +344,8 @@ impl Axis {
 #[derive(Clone, Debug)]
 pub struct Independent {
     spp: u32,
-    seed: u64,
+    /// The current pixel's hash, kept across its samples.
+    key: PixelKey,
     rng: Pcg32,
     pixel: Vec2,
 }
@@ -359,7 +360,7 @@ impl Independent {
         }
         let mut s = Self {
             spp,
-            seed,
+            key: PixelKey::new(seed),
             rng: pixel_sample_rng(seed, UVec2::ZERO, 0),
             pixel: Vec2::ZERO,
         };
@@ -376,7 +377,9 @@ impl Sampler for Independent {
 
     #[inline]
     fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
-        self.rng = pixel_sample_rng(self.seed, pixel, index);
+        // pixel_sample_rng(seed, pixel, index), from the kept pixel hash.
+        self.key.set(pixel);
+        self.rng = Pcg32::new(mix64(self.key.key ^ index as u64), STREAM);
         self.pixel = self.next_2d();
     }
 

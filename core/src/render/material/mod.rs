@@ -487,7 +487,7 @@ impl<'a> Material<'a> {
     pub(crate) fn reads(&self) -> (bool, bool) {
         match self.family() {
             Family::Specular(Specular::Mirror { .. }) => (false, false),
-            Family::Specular(Specular::Metal { .. }) => (true, false),
+            Family::Specular(Specular::Metal { roughness, .. }) => (roughness != 0.0, false),
             Family::Specular(Specular::Dielectric { .. }) => (false, true),
             Family::Diffuse(_) | Family::Phong(_) | Family::Microfacet(_) => (true, false),
             Family::Emissive(_) => (false, false),
@@ -629,6 +629,10 @@ mod tests {
             Material::Metal {
                 albedo: Vec3::ONE,
                 roughness: 0.3,
+            },
+            Material::Metal {
+                albedo: Vec3::ONE,
+                roughness: 0.0,
             },
             Material::Dielectric { ior: 1.5 },
             Material::Phong {

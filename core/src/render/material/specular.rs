@@ -59,6 +59,10 @@ impl Specular {
         let n = hit.n;
         match *self {
             Specular::Mirror { albedo } => Some(reflected(reflect(d, n), albedo)),
+            // An unfuzzed metal is a coloured mirror: no sphere sample.
+            Specular::Metal { albedo, roughness } if roughness == 0.0 => {
+                Some(reflected(reflect(d, n).normalize_or_zero(), albedo))
+            }
             Specular::Metal { albedo, roughness } => {
                 let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
                 let wi = fuzzed.normalize_or_zero();

@@ -116,6 +116,45 @@ impl SlabRay {
     }
 }
 
+/// A BVH's sphere lanes (centre and radius as SoA arrays), all of one
+/// width.
+struct LeafLanes<'a> {
+    cx: &'a [f32],
+    cy: &'a [f32],
+    cz: &'a [f32],
+    r: &'a [f32],
+}
+
+impl LeafLanes<'_> {
+    /// The 8-wide kernel on the lanes from `start` (count of them valid):
+    /// `t` per lane, `+∞` for a miss or an unused lane.
+    #[inline(always)]
+    fn leaf_t(&self, start: usize, count: usize, ray: &Ray) -> f32x8 {
+        let end = start + 8;
+        let load = |v: &[f32]| {
+            let mut a = [0.0f32; 8];
+            a.copy_from_slice(&v[start..end]);
+            f32x8::new(a)
+        };
+        let t = sphere_t(
+            f32x8::splat(ray.origin.x),
+            f32x8::splat(ray.origin.y),
+            f32x8::splat(ray.origin.z),
+            f32x8::splat(ray.dir.x),
+            f32x8::splat(ray.dir.y),
+            f32x8::splat(ray.dir.z),
+            load(self.cx),
+            load(self.cy),
+            load(self.cz),
+            load(self.r),
+            f32x8::splat(ray.t_min),
+            f32x8::splat(ray.t_max),
+        );
+        let used = lanes_lt(f32x8::new(LANE_INDEX), f32x8::splat(count as f32));
+        lanes_select(used, t, f32x8::splat(f32::INFINITY))
+    }
+}
+
 /// Per-lane slab test: entry and exit `t`, clipped to `[t_min, t_far]`.
 /// Min and max by compare and select, the same on every SIMD level.
 #[inline(always)]
@@ -145,31 +184,24 @@ fn slabs(
 const LANE_INDEX: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
 
 impl Bvh<'_> {
+    /// The sphere lanes, each cut to the same width, so one bounds check
+    /// covers a leaf's four loads.
+    #[inline(always)]
+    fn lanes(&self) -> LeafLanes<'_> {
+        let w = self.ids.len();
+        LeafLanes {
+            cx: &self.cx[..w],
+            cy: &self.cy[..w],
+            cz: &self.cz[..w],
+            r: &self.r[..w],
+        }
+    }
+
     /// The 8-wide kernel on the leaf lanes from `start` (count of them
     /// valid): `t` per lane, `+∞` for a miss or an unused lane.
     #[inline(always)]
     fn leaf_t(&self, start: usize, count: usize, ray: &Ray) -> f32x8 {
-        let load = |v: &[f32]| {
-            let mut a = [0.0f32; 8];
-            a.copy_from_slice(&v[start..start + 8]);
-            f32x8::new(a)
-        };
-        let t = sphere_t(
-            f32x8::splat(ray.origin.x),
-            f32x8::splat(ray.origin.y),
-            f32x8::splat(ray.origin.z),
-            f32x8::splat(ray.dir.x),
-            f32x8::splat(ray.dir.y),
-            f32x8::splat(ray.dir.z),
-            load(self.cx),
-            load(self.cy),
-            load(self.cz),
-            load(self.r),
-            f32x8::splat(ray.t_min),
-            f32x8::splat(ray.t_max),
-        );
-        let used = lanes_lt(f32x8::new(LANE_INDEX), f32x8::splat(count as f32));
-        lanes_select(used, t, f32x8::splat(f32::INFINITY))
+        self.lanes().leaf_t(start, count, ray)
     }
 
     /// The closest hit of `ray`: bit for bit
@@ -202,12 +234,16 @@ impl Bvh<'_> {
         stack: &mut [(u32, f32); STACK],
     ) {
         let slab = SlabRay::new(ray);
+        let lanes = self.lanes();
+        let ids = &self.ids[..];
         stack[0] = (root, f32::NEG_INFINITY);
         let mut sp = 1;
-
-        // The closest t so far (t_max before any hit): children entered
-        // beyond it are skipped, entered at it are kept.
-        let mut far = best.map_or(ray.t_max, |h| h.t);
+        // The closest t so far (t_max before any hit) and its sphere:
+        // children entered beyond it are skipped, entered at it are kept.
+        let (mut far, mut id_best, mut found) = match *best {
+            Some(h) => (h.t, h.sphere, true),
+            None => (ray.t_max, u32::MAX, false),
+        };
         while sp > 0 {
             sp -= 1;
             let (entry, t_enter) = stack[sp];
@@ -217,7 +253,7 @@ impl Bvh<'_> {
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
-                let t = self.leaf_t(start, count, ray);
+                let t = lanes.leaf_t(start, count, ray);
                 // Only lanes that hit at or before the closest so far can
                 // be taken: most leaves have none.
                 let inf = f32x8::splat(f32::INFINITY);
@@ -229,14 +265,11 @@ impl Bvh<'_> {
                 while hits != 0 {
                     let lane = hits.trailing_zeros() as usize;
                     hits &= hits - 1;
-                    let (t, id) = (ts[lane], self.ids[start + lane]);
-                    let take = match best {
-                        Some(b) => t < b.t || (t == b.t && id < b.sphere),
-                        None => true,
-                    };
-                    if take {
-                        *best = Some(Hit { t, sphere: id });
-                        far = t;
+                    let (t, id) = (ts[lane], ids[start + lane]);
+                    // Before any hit `far` is t_max, which every kernel t
+                    // is below.
+                    if t < far || (t == far && id < id_best) {
+                        (far, id_best, found) = (t, id, true);
                     }
                 }
                 continue;
@@ -267,6 +300,12 @@ impl Bvh<'_> {
                 stack[sp] = (child, t);
                 sp += 1;
             }
+        }
+        if found {
+            *best = Some(Hit {
+                t: far,
+                sphere: id_best,
+            });
         }
     }
 
@@ -458,18 +497,19 @@ impl Bvh<'_> {
                     packet.t_min,
                     far,
                 );
-                let lanes = lanes_bitmask(lanes_le(tn, tf) & lane_on) as u8;
+                let enter = lanes_le(tn, tf) & lane_on;
+                let lanes = lanes_bitmask(enter) as u8;
                 if lanes == 0 {
                     continue;
                 }
-                // Order by the nearest entry among the lanes that enter.
-                let tn = tn.to_array();
-                let mut key = f32::INFINITY;
-                for (l, &t) in tn.iter().enumerate() {
-                    if lanes >> l & 1 == 1 && t < key {
-                        key = t;
-                    }
-                }
+                // Order by the nearest entry among the lanes that enter (a
+                // tree of minima; the order never changes a result).
+                let m = lanes_select(enter, tn, inf).to_array();
+                let min = |a: f32, b: f32| if b < a { b } else { a };
+                let key = min(
+                    min(min(m[0], m[1]), min(m[2], m[3])),
+                    min(min(m[4], m[5]), min(m[6], m[7])),
+                );
                 insert_far_to_near(&mut order, n, (key, (node.child[c], lanes)));
                 n += 1;
             }
