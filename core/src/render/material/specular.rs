@@ -60,9 +60,10 @@ impl Specular {
         match *self {
             Specular::Mirror { albedo } => Some(reflected(reflect(d, n), albedo)),
             // An unfuzzed metal is a coloured mirror: no sphere sample.
-            Specular::Metal { albedo, roughness } if roughness == 0.0 => {
-                Some(reflected(reflect(d, n).normalize_or_zero(), albedo))
-            }
+            Specular::Metal {
+                albedo,
+                roughness: 0.0,
+            } => Some(reflected(reflect(d, n).normalize_or_zero(), albedo)),
             Specular::Metal { albedo, roughness } => {
                 let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
                 let wi = fuzzed.normalize_or_zero();
