@@ -235,7 +235,7 @@ impl Bvh<'_> {
     ) {
         let slab = SlabRay::new(ray);
         let lanes = self.lanes();
-        let ids = &self.ids[..];
+        let ids = self.ids;
         stack[0] = (root, f32::NEG_INFINITY);
         let mut sp = 1;
         // The closest t so far (t_max before any hit) and its sphere:
