@@ -15,8 +15,10 @@
 //! - An inverse takes a point of the domain and returns the `u` that maps to
 //!   it, in `[0, 1)²`; it is the exact inverse up to rounding.
 //! - NaN in `u` gives NaN out of `sample_*`; nothing panics.
-//! - Transcendental functions come from `libm` and no multiply-add is fused,
-//!   so results are the same bits on every CPU.
+//! - Sines and cosines are polynomials in plain `f32` operations after an
+//!   exact range reduction (the crate's `trig`), the other transcendental
+//!   functions come from `libm`, and no multiply-add is fused, so results
+//!   are the same bits on every CPU.
 //!
 //! # Sources
 //!
@@ -176,8 +178,8 @@ pub fn invert_uniform_hemisphere(w: Vec3) -> Vec2 {
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
     let (r, d) = concentric(u);
     // z from the disk radius, not from the rounded point: only a radius of
-    // exactly 1 (u on the square's edge) lands on the rim, and z keeps
-    // its accuracy there (√((1 − r)(1 + r)), where 1 − r is exact).
+    // exactly 1 lands on the rim, and z keeps its accuracy near it
+    // (√((1 − r)(1 + r)), where 1 − r is exact for r ≥ ½).
     let z = safe_sqrt((1.0 - r) * (1.0 + r));
     Vec3::new(d.x, d.y, z)
 }
@@ -185,10 +187,10 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
 /// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
 /// steradian where `w.z ≥ 0`, else `0` (and `0` for NaN).
 ///
-/// A sample exactly on the rim (`w.z = 0`: `u` on the edge of the
-/// square where a coordinate is 0 and dominates, about 1 in 10⁷ uniform
-/// `u`) has density 0 and contributes nothing: an estimator must skip
-/// samples whose pdf is 0 rather than divide by it.
+/// A sample exactly on the rim (`w.z = 0`: a disk radius of exactly 1,
+/// from a coordinate of `u` below 2⁻²⁵, which rounds `2u − 1` to −1;
+/// about 1 in 10⁷ uniform `u`) has density 0 and contributes nothing: an
+/// estimator must skip samples whose pdf is 0 rather than divide by it.
 #[doc(alias = "square_to_cosine_hemisphere_pdf")]
 #[inline]
 #[must_use]

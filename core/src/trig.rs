@@ -22,11 +22,13 @@ pub(crate) fn sin_cos_pi_quarter(x: f32) -> (f32, f32) {
 /// `(sin 2πu, cos 2πu)`: `4u` is split exactly into the nearest quarter
 /// turn `q` and a rest `r ∈ [−½, ½]`, whose sine and cosine
 /// ([`sin_cos_pi_quarter`] of `r / 2`) are rotated by `q` quarter turns.
-/// Exact reduction for `|u| < 2²¹`; a sampler's `u ∈ [0, 1)` always is.
+/// Exact reduction, and the stated accuracy, for `|u| < 2²⁰`; a sampler's
+/// `u ∈ [0, 1)` always is.
 #[inline(always)]
 pub(crate) fn sin_cos_turn(u: f32) -> (f32, f32) {
     // Adding and taking away 1.5·2²³ rounds to the nearest integer (ties
-    // to even) for |v| < 2²²: exact IEEE steps, no rounding mode needed.
+    // to even) for |v| < 2²² (|u| < 2²⁰): exact IEEE steps, no rounding
+    // mode needed.
     const ROUND: f32 = 12_582_912.0;
     let v = 4.0 * u;
     let q = (v + ROUND) - ROUND;
@@ -76,9 +78,27 @@ mod tests {
             assert!((f64::from(s) - t.sin()).abs() < 1.2e-7, "sin at {u}");
             assert!((f64::from(c) - t.cos()).abs() < 1.2e-7, "cos at {u}");
         }
-        // Exact at the quarter turns, as libm is.
-        assert_eq!(sin_cos_turn(0.0), (0.0, 1.0));
-        assert_eq!(sin_cos_turn(0.25), (1.0, -0.0));
-        assert_eq!(sin_cos_turn(0.5), (-0.0, -1.0));
+        // Exact at the quarter turns, signs of zero included.
+        let bits = |(s, c): (f32, f32)| (s.to_bits(), c.to_bits());
+        assert_eq!(bits(sin_cos_turn(0.0)), bits((0.0, 1.0)));
+        assert_eq!(bits(sin_cos_turn(0.25)), bits((1.0, -0.0)));
+        assert_eq!(bits(sin_cos_turn(0.5)), bits((-0.0, -1.0)));
+        assert_eq!(bits(sin_cos_turn(0.75)), bits((-1.0, 0.0)));
+    }
+
+    /// The documented range holds to its ends: every quarter and eighth
+    /// turn just inside ±2²⁰ (where 4u is an integer plus ½ and
+    /// ties decide the quadrant).
+    #[test]
+    fn turns_hold_up_to_the_range_end() {
+        let top = (1u32 << 20) as f32;
+        for k in 1..=64u32 {
+            for u in [top - k as f32 / 8.0, -(top - k as f32 / 8.0)] {
+                let (s, c) = sin_cos_turn(u);
+                let t = core::f64::consts::TAU * (f64::from(u) % 1.0);
+                assert!((f64::from(s) - t.sin()).abs() < 1.2e-7, "sin at {u}");
+                assert!((f64::from(c) - t.cos()).abs() < 1.2e-7, "cos at {u}");
+            }
+        }
     }
 }

@@ -17,8 +17,9 @@
 //!     sample the material, multiply the throughput, spawn the next ray
 //! ```
 //!
-//! Every vertex draws its six dimensions whether or not it uses them, so a
-//! dimension's index never depends on the path taken.
+//! Every vertex takes its six dimensions whether or not it uses them (those
+//! it does not read are skipped, `Sampler::skip_1d`/`skip_2d`, not made),
+//! so a dimension's index never depends on the path taken.
 //!
 //! **max_depth** is the number of ray segments from the camera (the
 //! course's, RTIOW's and Mitsuba's convention, COURSE.md D8): 1 sees only

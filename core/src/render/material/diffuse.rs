@@ -30,11 +30,18 @@ impl Lambertian<'_> {
     }
 
     /// A cosine sample, whose weight `f cos θ / pdf` is the albedo itself:
-    /// taken as it is, not through `ρ/π · π`.
+    /// taken as it is, not through `ρ/π · π` (0 below the surface, as the
+    /// BRDF is: only a degenerate zero normal gets there).
     #[inline]
     pub(super) fn sample(&self, hit: &SurfaceHit, u: Vec2) -> Option<BsdfSample> {
         let rho = self.albedo.filtered(hit.uv, hit.p, hit.footprint);
-        sample_cosine(hit.n, u, |_| rho)
+        sample_cosine(
+            hit.n,
+            u,
+            |wi| {
+                if hit.n.dot(wi) > 0.0 { rho } else { Vec3::ZERO }
+            },
+        )
     }
 
     pub(super) fn content(&self, out: &mut Feed<'_>) {

@@ -59,11 +59,15 @@ impl Specular {
         let n = hit.n;
         match *self {
             Specular::Mirror { albedo } => Some(reflected(reflect(d, n), albedo)),
-            // An unfuzzed metal is a coloured mirror: no sphere sample.
+            // An unfuzzed metal is a coloured mirror: no sphere sample, the
+            // same absorption below the surface.
             Specular::Metal {
                 albedo,
                 roughness: 0.0,
-            } => Some(reflected(reflect(d, n).normalize_or_zero(), albedo)),
+            } => {
+                let wi = reflect(d, n).normalize_or_zero();
+                (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
+            }
             Specular::Metal { albedo, roughness } => {
                 let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
                 let wi = fuzzed.normalize_or_zero();
@@ -117,6 +121,43 @@ mod tests {
     use glam::{Vec2, Vec3};
 
     use crate::render::material::{HIT, Material, MaterialError, SurfaceHit};
+
+    /// An unfuzzed metal takes its own path (no sphere sample) but scatters
+    /// and absorbs as the fuzzed formula does at roughness 0, grazing and
+    /// tangent rays included (equal up to the signs of zeros).
+    #[test]
+    fn unfuzzed_metal_is_the_fuzzed_formula_at_roughness_0() {
+        let albedo = Vec3::new(0.9, 0.5, 0.2);
+        let m = Material::Metal {
+            albedo,
+            roughness: 0.0,
+        };
+        let n = HIT.n;
+        let mut absorbed = 0;
+        for k in 0..=200 {
+            // From straight down to tangent and just past it.
+            let a = k as f32 / 200.0 * 1.6;
+            let d = Vec3::new(libm::sinf(a), -libm::cosf(a), 0.1 * libm::sinf(a)).normalize();
+            for d in [
+                d,
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1e-8, 0.0).normalize(),
+            ] {
+                let u = Vec2::new(0.3, 0.8);
+                let r = d - n * (2.0 * d.dot(n));
+                let wi = (r + crate::mapping::sample_uniform_sphere(u) * 0.0).normalize_or_zero();
+                let want = (wi.dot(n) > 0.0).then_some(wi);
+                let got = m.sample(d, &HIT, u, 0.0);
+                assert_eq!(got.map(|s| s.wi), want, "d = {d}");
+                if let Some(s) = got {
+                    assert_eq!(s.weight, albedo);
+                } else {
+                    absorbed += 1;
+                }
+            }
+        }
+        assert!(absorbed > 0, "no ray reached the absorbing case");
+    }
 
     #[test]
     fn metal_directions_are_unit() {

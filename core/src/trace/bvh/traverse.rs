@@ -197,13 +197,6 @@ impl Bvh<'_> {
         }
     }
 
-    /// The 8-wide kernel on the leaf lanes from `start` (count of them
-    /// valid): `t` per lane, `+∞` for a miss or an unused lane.
-    #[inline(always)]
-    fn leaf_t(&self, start: usize, count: usize, ray: &Ray) -> f32x8 {
-        self.lanes().leaf_t(start, count, ray)
-    }
-
     /// The closest hit of `ray`: bit for bit
     /// [`closest_hit`](crate::trace::closest_hit) over the spheres it was
     /// built from.
@@ -326,6 +319,7 @@ impl Bvh<'_> {
 
     fn any_from(&self, ray: &Ray, stack: &mut [u32; STACK]) -> bool {
         let slab = SlabRay::new(ray);
+        let lanes = self.lanes();
         stack[0] = 0;
         let mut sp = 1;
 
@@ -335,7 +329,7 @@ impl Bvh<'_> {
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
-                let t = self.leaf_t(start, count, ray);
+                let t = lanes.leaf_t(start, count, ray);
                 if lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) != 0 {
                     return true;
                 }
