@@ -37,6 +37,7 @@ use core::f32::consts::PI;
 use glam::Vec2;
 
 use crate::mapping::{PIECEWISE_2D_SIZE, PiecewiseConstant2D};
+use crate::trig::sin_cos_pi;
 
 /// Cells per axis of a tabulated filter's sampling distribution.
 pub const FILTER_TABLE_SIZE: usize = PIECEWISE_2D_SIZE;
@@ -171,27 +172,6 @@ impl FilterKind {
             }
         }
     }
-}
-
-/// `(sin πx, cos πx)` for `|x| ≤ ½` by their Taylor polynomials to
-/// degree 11 and 12 (truncation below 6·10⁻⁸), in plain `f32`
-/// multiplies and adds: the same bits on every CPU, for a fraction of a
-/// libm call.
-#[inline]
-fn sin_cos_pi(x: f32) -> (f32, f32) {
-    debug_assert!(x.abs() <= 0.5);
-    let x2 = x * x;
-    let sin = x
-        * (PI
-            + x2 * (-5.167_712_8
-                + x2 * (2.550_164
-                    + x2 * (-0.599_264_5 + x2 * (0.082_145_89 + x2 * -0.007_370_431)))));
-    let cos = 1.0
-        + x2 * (-4.934_802
-            + x2 * (4.058_712
-                + x2 * (-1.335_262_8
-                    + x2 * (0.235_330_63 + x2 * (-0.025_806_89 + x2 * 0.001_929_574_3)))));
-    (sin, cos)
 }
 
 fn sinc(x: f32) -> f32 {
@@ -631,17 +611,6 @@ fn simpson(g: impl Fn(f32) -> f64, r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sin_cos_pi_is_within_2e_7_of_the_true_values() {
-        for i in -4096..=4096 {
-            let x = i as f32 / 8192.0;
-            let (s, c) = sin_cos_pi(x);
-            let t = core::f64::consts::PI * f64::from(x);
-            assert!((f64::from(s) - t.sin()).abs() < 1.8e-7, "sin at {x}");
-            assert!((f64::from(c) - t.cos()).abs() < 1.8e-7, "cos at {x}");
-        }
-    }
 
     #[test]
     fn splat_taps_are_the_profile_at_each_centre() {
