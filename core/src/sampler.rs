@@ -308,7 +308,7 @@ impl Axis {
         if self.shift == Self::GENERAL {
             (s / self.n, s % self.n)
         } else {
-            (s >> self.shift, s & (self.n - 1))
+            self.div_rem_pow2(s)
         }
     }
 
@@ -318,6 +318,18 @@ impl Axis {
         if self.shift == Self::GENERAL {
             return stratum_point(s, u32_to_unit_f32(x), self.n, self.inv);
         }
+        self.point_pow2(s, x)
+    }
+
+    /// `s / n` and `s % n` of an axis whose `n` is a power of two.
+    #[inline(always)]
+    fn div_rem_pow2(self, s: u32) -> (u32, u32) {
+        (s >> self.shift, s & (self.n - 1))
+    }
+
+    /// [`Axis::point`] of an axis whose `n` is a power of two.
+    #[inline(always)]
+    fn point_pow2(self, s: u32, x: u32) -> f32 {
         // s + 1 ≤ 2²⁴, so both integers are below 2⁴⁹ and `top` is exact.
         let num = ((s as u64) << 24 | (x >> 8) as u64) as i64 as f32;
         // Rounding may reach the next stratum's start, never beyond: cap
@@ -463,44 +475,119 @@ const STRATA_KEYED_BLOCKS: usize = 2;
 /// One round of Kensler's permutation of `[0, w]` keyed by `p` (see
 /// [`permute_in`]).
 #[inline(always)]
-const fn permute_round(mut i: u32, w: u32, p: u32) -> u32 {
-    i ^= p;
+const fn permute_round(i: u32, w: u32, p: u32) -> u32 {
+    permute_round_keyed::<false>(i, w, RoundKey::new(p))
+}
+
+/// What one round of Kensler's permutation takes from its key `p`,
+/// derived once per key: the shifted key words, and the two multipliers
+/// the round applies back to back folded into one (products mod 2³² do not
+/// depend on grouping, so the bits are the same).
+#[derive(Clone, Copy, Debug, Default)]
+struct RoundKey {
+    p: u32,
+    p16: u32,
+    p8: u32,
+    p23: u32,
+    m: u32,
+}
+
+impl RoundKey {
+    #[inline(always)]
+    const fn new(p: u32) -> Self {
+        Self {
+            p,
+            p16: p >> 16,
+            p8: p >> 8,
+            p23: p >> 23,
+            m: (1 | p >> 27).wrapping_mul(0x6935_fa69),
+        }
+    }
+}
+
+/// [`permute_round`] from a derived key. With `SMALL` (`w < 16`) the three
+/// steps that shift by 4 or more bits are left out: on `[0, 15]` they xor
+/// zero, so the bits are the same.
+#[inline(always)]
+const fn permute_round_keyed<const SMALL: bool>(mut i: u32, w: u32, k: RoundKey) -> u32 {
+    i ^= k.p;
     i = i.wrapping_mul(0xe170_893d);
-    i ^= p >> 16;
-    i ^= (i & w) >> 4;
-    i ^= p >> 8;
+    i ^= k.p16;
+    if !SMALL {
+        i ^= (i & w) >> 4;
+    }
+    i ^= k.p8;
     i = i.wrapping_mul(0x0929_eb3f);
-    i ^= p >> 23;
+    i ^= k.p23;
     i ^= (i & w) >> 1;
-    i = i.wrapping_mul(1 | p >> 27);
-    i = i.wrapping_mul(0x6935_fa69);
-    i ^= (i & w) >> 11;
+    i = i.wrapping_mul(k.m);
+    if !SMALL {
+        i ^= (i & w) >> 11;
+    }
     i = i.wrapping_mul(0x74dc_b303);
     i ^= (i & w) >> 2;
     i = i.wrapping_mul(0x9e50_1cc3);
     i ^= (i & w) >> 2;
     i = i.wrapping_mul(0xc860_a3df);
     i &= w;
-    i ^ i >> 5
+    if SMALL { i } else { i ^ i >> 5 }
+}
+
+/// The permutation keys of one block of [`STRATA_BLOCK`] dimensions, lane
+/// by lane (structure of arrays, for SIMD): each round key's words and the
+/// key's residue mod the stratum count.
+#[derive(Clone, Copy, Debug)]
+struct BlockKeys {
+    p: [u32; STRATA_BLOCK],
+    p16: [u32; STRATA_BLOCK],
+    p8: [u32; STRATA_BLOCK],
+    p23: [u32; STRATA_BLOCK],
+    m: [u32; STRATA_BLOCK],
+    key_mod: [u32; STRATA_BLOCK],
+}
+
+impl BlockKeys {
+    const ZERO: Self = Self {
+        p: [0; STRATA_BLOCK],
+        p16: [0; STRATA_BLOCK],
+        p8: [0; STRATA_BLOCK],
+        p23: [0; STRATA_BLOCK],
+        m: [0; STRATA_BLOCK],
+        key_mod: [0; STRATA_BLOCK],
+    };
+
+    #[inline(always)]
+    fn lane(&self, l: usize) -> RoundKey {
+        RoundKey {
+            p: self.p[l],
+            p16: self.p16[l],
+            p8: self.p8[l],
+            p23: self.p23[l],
+            m: self.m[l],
+        }
+    }
 }
 
 /// [`permute_in`] of one `i < len` under `STRATA_BLOCK` keys at once: lanes are
 /// independent and branch-free (a lane that has reached `[0, len)` keeps
 /// its value while the others walk on), so a compiler turns them into SIMD.
 #[inline]
-fn permute_block(
-    i: u32,
-    len: u32,
-    w: u32,
-    keys: &[u32; STRATA_BLOCK],
-    key_mods: &[u32; STRATA_BLOCK],
-) -> [u32; STRATA_BLOCK] {
+fn permute_block(i: u32, len: u32, w: u32, keys: &BlockKeys, out: &mut [u32; STRATA_BLOCK]) {
     if w.wrapping_add(1) == len {
         // A power of two: one round stays in [0, len), nothing walks, and
         // (x + key) mod len is a mask.
-        return core::array::from_fn(|l| {
-            permute_round(i, w, keys[l]).wrapping_add(key_mods[l]) & w
-        });
+        if w < 16 {
+            for (l, o) in out.iter_mut().enumerate() {
+                *o = permute_round_keyed::<true>(i, w, keys.lane(l)).wrapping_add(keys.key_mod[l])
+                    & w;
+            }
+        } else {
+            for (l, o) in out.iter_mut().enumerate() {
+                *o = permute_round_keyed::<false>(i, w, keys.lane(l)).wrapping_add(keys.key_mod[l])
+                    & w;
+            }
+        }
+        return;
     }
     let mut x = [i; STRATA_BLOCK];
     // All ones while a lane still walks.
@@ -508,7 +595,7 @@ fn permute_block(
     loop {
         let mut any = 0;
         for l in 0..STRATA_BLOCK {
-            let y = permute_round(x[l], w, keys[l]);
+            let y = permute_round_keyed::<false>(x[l], w, keys.lane(l));
             x[l] = (y & walking[l]) | (x[l] & !walking[l]);
             walking[l] &= 0u32.wrapping_sub((y >= len) as u32);
             any |= walking[l];
@@ -517,14 +604,34 @@ fn permute_block(
             break;
         }
     }
-    let mut out = [0; STRATA_BLOCK];
     for l in 0..STRATA_BLOCK {
         // (x + key) mod len without overflow, as permute_in.
-        let r = x[l].wrapping_add(key_mods[l]);
+        let r = x[l].wrapping_add(keys.key_mod[l]);
         let wrap = (r >= len) | (r < x[l]);
         out[l] = r.wrapping_sub(len & 0u32.wrapping_sub(wrap as u32));
     }
-    out
+}
+
+/// Writes into `keys` the permutation keys of block `block` (dimensions
+/// `16·block ..`) of pass `pass` of the pixel hashed to `pixel_key`, and
+/// their residues mod the stratum count of `axis`.
+#[inline]
+fn block_keys(keys: &mut BlockKeys, pixel_key: u64, pass: u32, axis: Axis, block: u32) {
+    let first = block.wrapping_mul(STRATA_BLOCK as u32);
+    for l in 0..STRATA_BLOCK {
+        let d = first.wrapping_add(l as u32);
+        // Salted so that a key never equals a stream state
+        // (`mix64(pixel_key ^ index)`) of the same pixel.
+        let word = d as u64 | (pass as u64) << 32;
+        let p = (mix64(pixel_key ^ PERMUTATION_SALT ^ word) >> 32) as u32;
+        let k = RoundKey::new(p);
+        keys.p[l] = k.p;
+        keys.p16[l] = k.p16;
+        keys.p8[l] = k.p8;
+        keys.p23[l] = k.p23;
+        keys.m[l] = k.m;
+        keys.key_mod[l] = axis.div_rem(p).1;
+    }
 }
 
 /// The state the two strata samplers share; `JITTER` is the only
@@ -537,6 +644,8 @@ struct Strata<const JITTER: bool> {
     axes: [Axis; 3],
     /// `permute_mask(spp)`.
     mask: u32,
+    /// `spp` is a power of two, and so are both axes of a 2D draw.
+    pow2: bool,
     pixel: PixelKey,
     /// Stratum slot `index % spp` and pass `index / spp`.
     slot: u32,
@@ -547,7 +656,7 @@ struct Strata<const JITTER: bool> {
     keyed_pass: u32,
     keyed: u32,
     /// Each dimension's permutation key and its residue mod spp, by block.
-    keys: [[[u32; STRATA_BLOCK]; 2]; STRATA_KEYED_BLOCKS],
+    keys: [BlockKeys; STRATA_KEYED_BLOCKS],
     /// The block whose shuffled strata `strata` holds.
     block: u32,
     strata: [u32; STRATA_BLOCK],
@@ -565,13 +674,14 @@ impl<const JITTER: bool> Strata<JITTER> {
             spp,
             axes: [Axis::new(spp), Axis::new(nx), Axis::new(ny)],
             mask: permute_mask(spp),
+            pow2: spp.is_power_of_two(),
             pixel: PixelKey::new(seed),
             slot: 0,
             pass: 0,
             dimension: 2,
             keyed_pass: 0,
             keyed: 0,
-            keys: [[[0; STRATA_BLOCK]; 2]; STRATA_KEYED_BLOCKS],
+            keys: [BlockKeys::ZERO; STRATA_KEYED_BLOCKS],
             block: 0,
             strata: [0; STRATA_BLOCK],
             rng: pixel_sample_rng(seed, UVec2::ZERO, 0),
@@ -581,38 +691,41 @@ impl<const JITTER: bool> Strata<JITTER> {
         Some(s)
     }
 
-    /// The permutation keys of block `block` in the current pass, and
-    /// their residues mod spp.
-    fn block_keys(&self, block: u32) -> [[u32; STRATA_BLOCK]; 2] {
-        let first = block.wrapping_mul(STRATA_BLOCK as u32);
-        let keys: [u32; STRATA_BLOCK] = core::array::from_fn(|l| {
-            let d = first.wrapping_add(l as u32);
-            // Salted so that a key never equals a stream state
-            // (`mix64(pixel_key ^ index)`) of the same pixel.
-            let word = d as u64 | (self.pass as u64) << 32;
-            (mix64(self.pixel.key ^ PERMUTATION_SALT ^ word) >> 32) as u32
-        });
-        [keys, keys.map(|k| self.axes[0].div_rem(k).1)]
-    }
-
     /// Shuffles the strata of block `block` of the current sample into
     /// `strata`.
-    #[inline(never)]
+    #[inline(always)]
     fn fill(&mut self, block: u32) {
         let far;
         let keys = if (block as usize) < STRATA_KEYED_BLOCKS {
             let b = block as usize;
             if self.keyed & 1 << b == 0 {
-                self.keys[b] = self.block_keys(block);
+                block_keys(
+                    &mut self.keys[b],
+                    self.pixel.key,
+                    self.pass,
+                    self.axes[0],
+                    block,
+                );
                 self.keyed |= 1 << b;
             }
             &self.keys[b]
         } else {
-            far = self.block_keys(block);
+            // Past the kept blocks (long paths only): computed each time.
+            let mut k = BlockKeys::ZERO;
+            block_keys(&mut k, self.pixel.key, self.pass, self.axes[0], block);
+            far = k;
             &far
         };
-        self.strata = permute_block(self.slot, self.spp, self.mask, &keys[0], &keys[1]);
+        permute_block(self.slot, self.spp, self.mask, keys, &mut self.strata);
         self.block = block;
+    }
+
+    /// [`Strata::fill`] for a draw past the current block: out of line, so
+    /// the draws stay small enough to inline.
+    #[cold]
+    #[inline(never)]
+    fn refill(&mut self, block: u32) {
+        self.fill(block);
     }
 
     /// The shuffled stratum of the current sample in `dimension`.
@@ -620,7 +733,7 @@ impl<const JITTER: bool> Strata<JITTER> {
     fn stratum(&mut self, dimension: u32) -> u32 {
         let block = dimension / STRATA_BLOCK as u32;
         if block != self.block {
-            self.fill(block);
+            self.refill(block);
         }
         self.strata[dimension as usize % STRATA_BLOCK]
     }
@@ -632,12 +745,46 @@ impl<const JITTER: bool> Strata<JITTER> {
         if JITTER { self.rng.next_u32() } else { 1 << 31 }
     }
 
-    #[inline]
+    /// The point of 2D stratum `stratum`, from the next two jitter words.
+    /// A power-of-two spp (one test for the three axis operations) stays
+    /// small enough to inline; other counts take the general path out of
+    /// line.
+    #[inline(always)]
     fn point_2d(&mut self, stratum: u32) -> Vec2 {
+        if !self.pow2 {
+            return self.point_2d_general(stratum);
+        }
         let jx = self.jitter();
         let jy = self.jitter();
-        let (row, column) = self.axes[1].div_rem(stratum);
-        Vec2::new(self.axes[1].point(column, jx), self.axes[2].point(row, jy))
+        let [_, x, y] = self.axes;
+        let (row, column) = x.div_rem_pow2(stratum);
+        Vec2::new(x.point_pow2(column, jx), y.point_pow2(row, jy))
+    }
+
+    #[inline(never)]
+    fn point_2d_general(&mut self, stratum: u32) -> Vec2 {
+        let jx = self.jitter();
+        let jy = self.jitter();
+        let [_, x, y] = self.axes;
+        let (row, column) = x.div_rem(stratum);
+        Vec2::new(x.point(column, jx), y.point(row, jy))
+    }
+
+    /// The point of 1D stratum `stratum`, from the next jitter word (as
+    /// [`Strata::point_2d`]).
+    #[inline(always)]
+    fn point_1d(&mut self, stratum: u32) -> f32 {
+        if !self.pow2 {
+            return self.point_1d_general(stratum);
+        }
+        let j = self.jitter();
+        self.axes[0].point_pow2(stratum, j)
+    }
+
+    #[inline(never)]
+    fn point_1d_general(&mut self, stratum: u32) -> f32 {
+        let j = self.jitter();
+        self.axes[0].point(stratum, j)
     }
 
     #[inline]
@@ -668,8 +815,7 @@ impl<const JITTER: bool> Strata<JITTER> {
     fn next_1d(&mut self) -> f32 {
         let stratum = self.stratum(self.dimension);
         self.dimension = self.dimension.wrapping_add(1);
-        let j = self.jitter();
-        self.axes[0].point(stratum, j)
+        self.point_1d(stratum)
     }
 
     #[inline]
@@ -841,23 +987,28 @@ const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
 const SOBOL_KEYED_BLOCKS: usize = 2;
 
 /// The keys of Sobol' block `block` (dimensions `16·block ..`) of the pixel
-/// hashed to `pixel_key`: each lane's pair key (index shuffle) and
+/// hashed to `pixel_key`: each pair's key (index shuffle) and each lane's
 /// dimension key (output scramble).
 #[inline]
-fn sobol_keys(pixel_key: u64, block: u32) -> [[u32; sobol::BLOCK]; 2] {
+fn sobol_keys(pixel_key: u64, block: u32) -> SobolKeys {
     let first = block.wrapping_mul(sobol::BLOCK as u32);
-    let mut pairs = [0u32; sobol::BLOCK / 2];
-    for (g, k) in pairs.iter_mut().enumerate() {
-        let pair = first / 2 + g as u32;
-        *k = (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32;
+    SobolKeys {
+        pairs: core::array::from_fn(|g| {
+            let pair = first / 2 + g as u32;
+            (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32
+        }),
+        dims: core::array::from_fn(|l| {
+            let d = first.wrapping_add(l as u32);
+            (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32
+        }),
     }
-    let mut keys = [[0u32; sobol::BLOCK]; 2];
-    for l in 0..sobol::BLOCK {
-        let d = first.wrapping_add(l as u32);
-        keys[0][l] = pairs[l / 2];
-        keys[1][l] = (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32;
-    }
-    keys
+}
+
+/// The keys of one Sobol' block (see [`sobol_keys`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct SobolKeys {
+    pairs: [u32; sobol::BLOCK / 2],
+    dims: [u32; sobol::BLOCK],
 }
 
 /// Owen-scrambled Sobol' samples (Burley 2020), padded in pairs of
@@ -895,7 +1046,7 @@ pub struct Sobol {
     pixel: PixelKey,
     /// Bit `b`: `keys[b]` holds block `b`'s keys for the current pixel.
     keyed: u32,
-    keys: [[[u32; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
+    keys: [SobolKeys; SOBOL_KEYED_BLOCKS],
     /// The sample index, bit-reversed.
     index_rev: u32,
     dimension: u32,
@@ -917,7 +1068,7 @@ impl Sobol {
             spp,
             pixel: PixelKey::new(seed),
             keyed: 0,
-            keys: [[[0; sobol::BLOCK]; 2]; SOBOL_KEYED_BLOCKS],
+            keys: [SobolKeys::default(); SOBOL_KEYED_BLOCKS],
             index_rev: 0,
             dimension: 2,
             block: 0,
@@ -943,7 +1094,7 @@ impl Sobol {
             far = sobol_keys(self.pixel.key, block);
             &far
         };
-        let ints = sobol::padded_block(self.index_rev, &keys[0], &keys[1]);
+        let ints = sobol::padded_block(self.index_rev, &keys.pairs, &keys.dims);
         // u32_to_unit_f32 of the 32-bit values, whose 24 high bits these are.
         self.values = ints.map(|x| x as f32 * (1.0 / 16_777_216.0));
         self.block = block;
@@ -1310,6 +1461,50 @@ mod tests {
         // Out-of-range inputs fold instead of walking forever.
         assert_eq!(permute(3, 3, 0), permute(0, 3, 0));
         assert!(permute(u32::MAX, 1000, 7) < 1000);
+    }
+
+    /// One round of Kensler's permutation as published (Kensler 2013,
+    /// *Correlated Multi-Jittered Sampling*), for the derived forms.
+    fn kensler_round(mut i: u32, w: u32, p: u32) -> u32 {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^ i >> 5
+    }
+
+    #[test]
+    fn derived_rounds_equal_the_published_one() {
+        // The folded multiplier, and the steps left out below 16, give the
+        // bits of the round as published.
+        let mut rng = Pcg32::new(3, 5);
+        for _ in 0..20_000 {
+            let p = rng.next_u32();
+            let small = (1u32 << (rng.next_u32() % 5)) - 1;
+            let i = rng.next_u32() & small;
+            let want = kensler_round(i, small, p);
+            assert_eq!(
+                permute_round_keyed::<true>(i, small, RoundKey::new(p)),
+                want
+            );
+            assert_eq!(permute_round(i, small, p), want);
+            let w = u32::MAX >> (rng.next_u32() % 32);
+            let j = rng.next_u32() & w;
+            assert_eq!(permute_round(j, w, p), kensler_round(j, w, p), "w {w:#x}");
+        }
     }
 
     #[test]
