@@ -324,12 +324,14 @@ impl Axis {
     /// `s / n` and `s % n` of an axis whose `n` is a power of two.
     #[inline(always)]
     fn div_rem_pow2(self, s: u32) -> (u32, u32) {
+        debug_assert!(self.shift != Self::GENERAL);
         (s >> self.shift, s & (self.n - 1))
     }
 
     /// [`Axis::point`] of an axis whose `n` is a power of two.
     #[inline(always)]
     fn point_pow2(self, s: u32, x: u32) -> f32 {
+        debug_assert!(self.shift != Self::GENERAL);
         // s + 1 ≤ 2²⁴, so both integers are below 2⁴⁹ and `top` is exact.
         let num = ((s as u64) << 24 | (x >> 8) as u64) as i64 as f32;
         // Rounding may reach the next stratum's start, never beyond: cap
@@ -483,7 +485,7 @@ const fn permute_round(i: u32, w: u32, p: u32) -> u32 {
 /// derived once per key: the shifted key words, and the two multipliers
 /// the round applies back to back folded into one (products mod 2³² do not
 /// depend on grouping, so the bits are the same).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct RoundKey {
     p: u32,
     p16: u32,
@@ -493,6 +495,7 @@ struct RoundKey {
 }
 
 impl RoundKey {
+    /// The derived words of key `p`.
     #[inline(always)]
     const fn new(p: u32) -> Self {
         Self {
@@ -505,11 +508,13 @@ impl RoundKey {
     }
 }
 
-/// [`permute_round`] from a derived key. With `SMALL` (`w < 16`) the three
-/// steps that shift by 4 or more bits are left out: on `[0, 15]` they xor
-/// zero, so the bits are the same.
+/// [`permute_round`] from a derived key. With `SMALL` (only for `w < 16`)
+/// the steps `(i & w) >> 4`, `(i & w) >> 11` and the final `i >> 5` are
+/// left out: they see at most `w ≤ 15` and xor zero, so the bits are the
+/// same.
 #[inline(always)]
 const fn permute_round_keyed<const SMALL: bool>(mut i: u32, w: u32, k: RoundKey) -> u32 {
+    debug_assert!(!SMALL || w < 16);
     i ^= k.p;
     i = i.wrapping_mul(0xe170_893d);
     i ^= k.p16;
@@ -547,6 +552,7 @@ struct BlockKeys {
 }
 
 impl BlockKeys {
+    /// All keys 0 (a placeholder until a block's keys are written).
     const ZERO: Self = Self {
         p: [0; STRATA_BLOCK],
         p16: [0; STRATA_BLOCK],
@@ -556,6 +562,7 @@ impl BlockKeys {
         key_mod: [0; STRATA_BLOCK],
     };
 
+    /// Lane `l`'s round key.
     #[inline(always)]
     fn lane(&self, l: usize) -> RoundKey {
         RoundKey {
@@ -568,24 +575,33 @@ impl BlockKeys {
     }
 }
 
-/// [`permute_in`] of one `i < len` under `STRATA_BLOCK` keys at once: lanes are
-/// independent and branch-free (a lane that has reached `[0, len)` keeps
-/// its value while the others walk on), so a compiler turns them into SIMD.
+/// [`permute_in`] of one `i < len` under `STRATA_BLOCK` keys at once, into
+/// `out`: lanes are independent and branch-free (a lane that has reached
+/// `[0, len)` keeps its value while the others walk on), so a compiler
+/// turns them into SIMD.
 #[inline]
 fn permute_block(i: u32, len: u32, w: u32, keys: &BlockKeys, out: &mut [u32; STRATA_BLOCK]) {
+    if w < 16 {
+        permute_block_in::<true>(i, len, w, keys, out);
+    } else {
+        permute_block_in::<false>(i, len, w, keys, out);
+    }
+}
+
+/// [`permute_block`] with rounds of one kind (see [`permute_round_keyed`]).
+#[inline(always)]
+fn permute_block_in<const SMALL: bool>(
+    i: u32,
+    len: u32,
+    w: u32,
+    keys: &BlockKeys,
+    out: &mut [u32; STRATA_BLOCK],
+) {
     if w.wrapping_add(1) == len {
         // A power of two: one round stays in [0, len), nothing walks, and
         // (x + key) mod len is a mask.
-        if w < 16 {
-            for (l, o) in out.iter_mut().enumerate() {
-                *o = permute_round_keyed::<true>(i, w, keys.lane(l)).wrapping_add(keys.key_mod[l])
-                    & w;
-            }
-        } else {
-            for (l, o) in out.iter_mut().enumerate() {
-                *o = permute_round_keyed::<false>(i, w, keys.lane(l)).wrapping_add(keys.key_mod[l])
-                    & w;
-            }
+        for (l, o) in out.iter_mut().enumerate() {
+            *o = permute_round_keyed::<SMALL>(i, w, keys.lane(l)).wrapping_add(keys.key_mod[l]) & w;
         }
         return;
     }
@@ -595,7 +611,7 @@ fn permute_block(i: u32, len: u32, w: u32, keys: &BlockKeys, out: &mut [u32; STR
     loop {
         let mut any = 0;
         for l in 0..STRATA_BLOCK {
-            let y = permute_round_keyed::<false>(x[l], w, keys.lane(l));
+            let y = permute_round_keyed::<SMALL>(x[l], w, keys.lane(l));
             x[l] = (y & walking[l]) | (x[l] & !walking[l]);
             walking[l] &= 0u32.wrapping_sub((y >= len) as u32);
             any |= walking[l];
@@ -655,7 +671,8 @@ struct Strata<const JITTER: bool> {
     /// filled (bit `b`).
     keyed_pass: u32,
     keyed: u32,
-    /// Each dimension's permutation key and its residue mod spp, by block.
+    /// Each dimension's permutation key (its round's derived words) and
+    /// its residue mod spp, by block.
     keys: [BlockKeys; STRATA_KEYED_BLOCKS],
     /// The block whose shuffled strata `strata` holds.
     block: u32,
@@ -761,6 +778,7 @@ impl<const JITTER: bool> Strata<JITTER> {
         Vec2::new(x.point_pow2(column, jx), y.point_pow2(row, jy))
     }
 
+    /// [`Strata::point_2d`] for any spp.
     #[inline(never)]
     fn point_2d_general(&mut self, stratum: u32) -> Vec2 {
         let jx = self.jitter();
@@ -781,6 +799,7 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.axes[0].point_pow2(stratum, j)
     }
 
+    /// [`Strata::point_1d`] for any spp.
     #[inline(never)]
     fn point_1d_general(&mut self, stratum: u32) -> f32 {
         let j = self.jitter();
@@ -1007,7 +1026,9 @@ fn sobol_keys(pixel_key: u64, block: u32) -> SobolKeys {
 /// The keys of one Sobol' block (see [`sobol_keys`]).
 #[derive(Clone, Copy, Debug, Default)]
 struct SobolKeys {
+    /// Each pair's index shuffle key.
     pairs: [u32; sobol::BLOCK / 2],
+    /// Each dimension's output scramble key.
     dims: [u32; sobol::BLOCK],
 }
 
@@ -1865,7 +1886,8 @@ mod fast_paths {
 
     #[test]
     fn strata_equal_their_definition() {
-        for spp in SPPS {
+        // Beyond SPPS: the round's `>> 11` step at work, and the cap.
+        for spp in SPPS.into_iter().chain([4096, MAX_STRATA_SPP]) {
             check_strata::<true>(spp);
             check_strata::<false>(spp);
         }

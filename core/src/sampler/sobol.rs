@@ -277,7 +277,17 @@ mod tests {
             core::array::from_fn(|g| (g as u32).wrapping_mul(0x9e37_79b9) ^ 0xdead_beef);
         let mut dim: [u32; BLOCK] = core::array::from_fn(|l| l as u32 * 7 + 1);
         dim[3] = u32::MAX;
-        for index in [0u32, 1, 5, 1000, u32::MAX] {
+        let mut x = 0x2545_f491u32;
+        let random = core::iter::from_fn(|| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            Some(x)
+        });
+        for index in [0u32, 1, 5, 1000, u32::MAX]
+            .into_iter()
+            .chain(random.take(500))
+        {
             let block = padded_block(index.reverse_bits(), &pair, &dim);
             // Both evaluation orders, whichever this build uses.
             let by_lane = padded_block_by_lane(index.reverse_bits(), &pair, &dim);
