@@ -581,9 +581,9 @@ impl PixelFilter {
 /// The tent `max(0, r − |x|)/r²` by inversion of its CDF.
 fn sample_tent(u: f32, r: f32) -> f32 {
     if u < 0.5 {
-        -r + r * libm::sqrtf(2.0 * u)
+        -r + r * crate::float::sqrtf(2.0 * u)
     } else {
-        r - r * libm::sqrtf(2.0 * (1.0 - u))
+        r - r * crate::float::sqrtf(2.0 * (1.0 - u))
     }
 }
 

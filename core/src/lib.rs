@@ -116,6 +116,7 @@
 #![warn(clippy::missing_inline_in_public_items)]
 
 pub mod filter;
+mod float;
 pub mod mapping;
 pub mod onb;
 pub mod render;

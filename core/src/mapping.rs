@@ -52,7 +52,7 @@ const DISK_RIM2: f32 = 1.0 + 4.0 * f32::EPSILON;
 /// `f32::max`, it keeps a NaN a NaN.
 #[inline]
 fn safe_sqrt(x: f32) -> f32 {
-    libm::sqrtf(if x < 0.0 { 0.0 } else { x })
+    crate::float::sqrtf(if x < 0.0 { 0.0 } else { x })
 }
 
 /// The azimuth of `(x, y)` as a fraction of a turn, in `[0, 1)`.
@@ -274,7 +274,7 @@ pub fn pdf_concentric_disk(p: Vec2) -> f32 {
 #[inline]
 #[must_use]
 pub fn invert_concentric_disk(p: Vec2) -> Vec2 {
-    let r = libm::sqrtf(p.x * p.x + p.y * p.y);
+    let r = crate::float::sqrtf(p.x * p.x + p.y * p.y);
     let mut theta = libm::atan2f(p.y, p.x);
     // Put theta in [-π/4, 7π/4) so each wedge is one interval.
     if theta < -FRAC_PI_4 {

@@ -50,7 +50,7 @@ fn robust_normalize(v: Vec3) -> Option<Vec3> {
         return None;
     }
     let s = v / m;
-    Some(s / libm::sqrtf(s.length_squared()))
+    Some(s / crate::float::sqrtf(s.length_squared()))
 }
 
 impl Onb {
@@ -123,7 +123,7 @@ impl Onb {
         let w = robust_normalize(n).unwrap_or(Vec3::NAN);
         let a = if w.x.abs() > 0.9 { Vec3::Y } else { Vec3::X };
         let c = w.cross(a);
-        let v = c / libm::sqrtf(c.length_squared());
+        let v = c / crate::float::sqrtf(c.length_squared());
         Self {
             u: w.cross(v),
             v,

@@ -247,7 +247,7 @@ impl Sphere {
         // overflow.
         let v = p - self.center;
         let v = v / v.abs().max_element();
-        let n = v / libm::sqrtf(v.length_squared());
+        let n = v / crate::float::sqrtf(v.length_squared());
         // A sphere smaller than its own rounding at this position: stay
         // within it rather than jump past its centre.
         let offset = self.offset_bound().min(0.5 * self.radius);
@@ -425,7 +425,7 @@ pub fn intersect_sphere_naive(sphere: &Sphere, ray: &Ray) -> Option<f32> {
     if !(disc >= 0.0) {
         return None;
     }
-    let root = libm::sqrtf(disc);
+    let root = crate::float::sqrtf(disc);
     let inside = |t: f32| t > ray.t_min && t < ray.t_max;
     let near = (-half_b - root) / a;
     if inside(near) {

@@ -79,7 +79,7 @@ pub fn rejection_unit_sphere<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
         let p = rejection_unit_ball(rng);
         let len2 = p.length_squared();
         if len2 > MIN_LEN2 {
-            return p / libm::sqrtf(len2);
+            return p / crate::float::sqrtf(len2);
         }
     }
 }
@@ -118,7 +118,7 @@ pub fn rejection_cosine_hemisphere<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
         let s = Vec3::Z + rejection_unit_sphere(rng);
         let len2 = s.length_squared();
         if len2 > MIN_LEN2 {
-            let w = s / libm::sqrtf(len2);
+            let w = s / crate::float::sqrtf(len2);
             // Rounding can leave z a hair below 0 at the rim.
             return Vec3::new(w.x, w.y, w.z.max(0.0));
         }

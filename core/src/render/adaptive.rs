@@ -337,12 +337,15 @@ impl PilotStats {
         Some(if libm::fabs(self.w) >= 0.25 * n {
             let r = self.wy / self.w;
             let s = (self.w2y2 - 2.0 * r * self.w2y + r * r * self.w2).max(0.0);
-            (r, n * libm::sqrt(s / (n - 1.0)) / libm::fabs(self.w))
+            (
+                r,
+                n * crate::float::sqrt(s / (n - 1.0)) / libm::fabs(self.w),
+            )
         } else {
             // The plain mean of v = w·y: Σ v = wy, Σ v² = w2y2.
             let m = self.wy / n;
             let var = ((self.w2y2 - m * self.wy) / (n - 1.0)).max(0.0);
-            (m, libm::sqrt(var))
+            (m, crate::float::sqrt(var))
         })
     }
 
@@ -376,9 +379,9 @@ impl PilotStats {
             return f64::INFINITY;
         };
         let r = libm::fabs(r);
-        let norm = libm::sqrt(r).max(ERROR_FLOOR);
+        let norm = crate::float::sqrt(r).max(ERROR_FLOOR);
         let c = (self.rays as f64 / self.n as f64).max(1.0);
-        sigma / (norm * threshold as f64 * libm::sqrt(c))
+        sigma / (norm * threshold as f64 * crate::float::sqrt(c))
     }
 }
 

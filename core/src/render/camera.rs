@@ -119,8 +119,8 @@ impl Camera {
         if !finite || view.length_squared() == 0.0 || side.length_squared() == 0.0 {
             return Err(CameraError::DegenerateView);
         }
-        let w = view.normalize();
-        let u = side.normalize();
+        let w = crate::float::normalize(view);
+        let u = crate::float::normalize(side);
         let v = w.cross(u);
         let half = libm::tanf(desc.vfov_deg.to_radians() * 0.5);
         let viewport_h = 2.0 * half * desc.focus_dist;
@@ -166,7 +166,7 @@ impl Camera {
             + self.dv * (pixel.y as f32 + offset.y);
         let d = sample_concentric_disk(lens);
         let origin = self.origin + self.lens_u * d.x + self.lens_v * d.y;
-        Ray::new(origin, (target - origin).normalize())
+        Ray::new(origin, crate::float::normalize(target - origin))
     }
 }
 

@@ -49,6 +49,7 @@ use super::scene::Scene;
 use super::texture::{TextureFilter, sphere_uv};
 use super::tile::TileStats;
 use crate::filter::PixelFilter;
+use crate::float::sqrtf;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
 use crate::onb::Onb;
 use crate::sampler::Sampler;
@@ -97,7 +98,7 @@ pub(crate) fn power_heuristic(a: f32, b: f32) -> f32 {
 fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> SurfaceHit {
     let s = scene.spheres()[hit.sphere as usize];
     let p = ray.at(hit.t);
-    let outward = (p - s.center).normalize_or_zero();
+    let outward = crate::float::normalize_or_zero(p - s.center);
     let front_face = ray.dir.dot(outward) < 0.0;
     SurfaceHit {
         p,
@@ -125,7 +126,7 @@ fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
     };
     let (dx, dy) = (offset(&diff[0]), offset(&diff[1]));
     let v = dx * dx + dy * dy;
-    let w = Vec3::new(libm::sqrtf(v.x), libm::sqrtf(v.y), libm::sqrtf(v.z)) * 0.5;
+    let w = Vec3::new(sqrtf(v.x), sqrtf(v.y), sqrtf(v.z)) * 0.5;
     if w.is_finite() { w } else { Vec3::INFINITY }
 }
 
@@ -134,7 +135,7 @@ fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
 #[inline]
 fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
     let s = scene.spheres()[light as usize];
-    match Cone::subtended_by_sphere((s.center - p).length(), s.radius) {
+    match Cone::subtended_by_sphere(crate::float::length(s.center - p), s.radius) {
         Some(cone) => pdf_uniform_cone(Vec3::Z, cone) / scene.lights().len() as f32,
         None => 0.0,
     }
@@ -173,7 +174,7 @@ fn direct_light(
     let k = ((u_choice * lights.len() as f32) as usize).min(lights.len() - 1);
     let light = scene.spheres()[lights[k] as usize];
     let to_light = light.center - surf.p;
-    let dist = to_light.length();
+    let dist = crate::float::length(to_light);
     let Some(cone) = Cone::subtended_by_sphere(dist, light.radius) else {
         return Vec3::ZERO;
     };
@@ -309,7 +310,7 @@ pub(crate) struct CameraSample {
 pub(crate) fn differential_spacing(settings: &RenderSettings, spp: u32) -> f32 {
     match settings.texture_filter {
         TextureFilter::None => 0.0,
-        TextureFilter::Box => (1.0 / libm::sqrtf(spp.max(1) as f32)).max(0.125),
+        TextureFilter::Box => (1.0 / sqrtf(spp.max(1) as f32)).max(0.125),
     }
 }
 

@@ -57,7 +57,7 @@ impl Lanes for f32 {
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        libm::sqrtf(self)
+        crate::float::sqrtf(self)
     }
     #[inline(always)]
     fn lt(self, rhs: Self) -> bool {

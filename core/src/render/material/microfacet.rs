@@ -24,7 +24,7 @@ fn smith_g1(cos: f32, alpha: f32) -> f32 {
     }
     let c2 = cos * cos;
     let tan2 = (1.0 - c2).max(0.0) / c2;
-    2.0 / (1.0 + libm::sqrtf(1.0 + alpha * alpha * tan2))
+    2.0 / (1.0 + crate::float::sqrtf(1.0 + alpha * alpha * tan2))
 }
 
 /// Cook–Torrance's parameters.

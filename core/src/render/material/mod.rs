@@ -299,7 +299,7 @@ impl Shading<'_> {
     /// The half vector `unit(V + L)` of Blinn and Cook–Torrance.
     #[inline]
     fn half(&self) -> Vec3 {
-        (self.v + self.wi).normalize_or_zero()
+        crate::float::normalize_or_zero(self.v + self.wi)
     }
 }
 

@@ -65,12 +65,12 @@ impl Specular {
                 albedo,
                 roughness: 0.0,
             } => {
-                let wi = reflect(d, n).normalize_or_zero();
+                let wi = crate::float::normalize_or_zero(reflect(d, n));
                 (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
             }
             Specular::Metal { albedo, roughness } => {
                 let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
-                let wi = fuzzed.normalize_or_zero();
+                let wi = crate::float::normalize_or_zero(fuzzed);
                 (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
             }
             Specular::Dielectric { ior } => Some(refract_or_reflect(d, hit, ior, u_lobe)),
@@ -97,7 +97,7 @@ fn refract_or_reflect(d: Vec3, hit: &SurfaceHit, ior: f32, u_lobe: f32) -> BsdfS
     let eta = if hit.front_face { 1.0 / ior } else { ior };
     let cos_i = (-d.dot(n)).min(1.0);
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    let cos_t = libm::sqrtf((1.0 - sin2_t).max(0.0));
+    let cos_t = crate::float::sqrtf((1.0 - sin2_t).max(0.0));
     // Schlick's approximation takes the cosine on the side of the
     // thinner medium: the incident one entering, the
     // transmitted one leaving (else it is far too low inside).
@@ -106,7 +106,7 @@ fn refract_or_reflect(d: Vec3, hit: &SurfaceHit, ior: f32, u_lobe: f32) -> BsdfS
     let wi = if reflects {
         reflect(d, n)
     } else {
-        (d * eta + n * (eta * cos_i - cos_t)).normalize()
+        crate::float::normalize(d * eta + n * (eta * cos_i - cos_t))
     };
     BsdfSample {
         wi,

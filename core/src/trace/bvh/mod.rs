@@ -393,7 +393,7 @@ mod tests {
                     c.to_array().map(f),
                 );
                 let e: [f64; 3] = core::array::from_fn(|i| o[i] + d[i] * t as f64 - c[i]);
-                let excess = libm::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) - r as f64;
+                let excess = crate::float::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) - r as f64;
                 let l1 = |v: [f64; 3]| v[0].abs() + v[1].abs() + v[2].abs();
                 let slack =
                     BVH_SLACK_ULPS as f64 * f32::EPSILON as f64 / 2.0 * (l1(o) + l1(c) + r as f64);
