@@ -1,5 +1,6 @@
-//! The one place that names `wide`'s methods, and the lane abstraction
-//! that lets a kernel be written once for `f32` and for `f32x8`.
+//! The one place that names `wide`'s 8-lane methods (`float` uses its
+//! 4-lane square root for scalars), and the lane abstraction that lets a
+//! kernel be written once for `f32` and for `f32x8`.
 //!
 //! The two SIMD modules, `packet` (sphere chunks, ray and hit packets, the
 //! brute-force 8-wide kernels) and `bvh` (node boxes, slab tests, packet
