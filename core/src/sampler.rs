@@ -321,6 +321,28 @@ impl Axis {
         self.point_pow2(s, x)
     }
 
+    /// [`Axis::div_rem`], or [`Axis::div_rem_pow2`] where the caller knows
+    /// `n` is a power of two (`POW2`).
+    #[inline(always)]
+    fn div_rem_as<const POW2: bool>(self, s: u32) -> (u32, u32) {
+        if POW2 {
+            self.div_rem_pow2(s)
+        } else {
+            self.div_rem(s)
+        }
+    }
+
+    /// [`Axis::point`], or [`Axis::point_pow2`] where the caller knows `n`
+    /// is a power of two (`POW2`).
+    #[inline(always)]
+    fn point_as<const POW2: bool>(self, s: u32, x: u32) -> f32 {
+        if POW2 {
+            self.point_pow2(s, x)
+        } else {
+            self.point(s, x)
+        }
+    }
+
     /// `s / n` and `s % n` of an axis whose `n` is a power of two.
     #[inline(always)]
     fn div_rem_pow2(self, s: u32) -> (u32, u32) {
@@ -660,8 +682,6 @@ struct Strata<const JITTER: bool> {
     axes: [Axis; 3],
     /// `permute_mask(spp)`.
     mask: u32,
-    /// `spp` is a power of two, and so are both axes of a 2D draw.
-    pow2: bool,
     pixel: PixelKey,
     /// Stratum slot `index % spp` and pass `index / spp`.
     slot: u32,
@@ -691,7 +711,6 @@ impl<const JITTER: bool> Strata<JITTER> {
             spp,
             axes: [Axis::new(spp), Axis::new(nx), Axis::new(ny)],
             mask: permute_mask(spp),
-            pow2: spp.is_power_of_two(),
             pixel: PixelKey::new(seed),
             slot: 0,
             pass: 0,
@@ -762,48 +781,62 @@ impl<const JITTER: bool> Strata<JITTER> {
         if JITTER { self.rng.next_u32() } else { 1 << 31 }
     }
 
+    /// Whether spp, and so both axes of a 2D draw, is a power of two.
+    #[inline(always)]
+    fn pow2(&self) -> bool {
+        self.axes[0].shift != Axis::GENERAL
+    }
+
     /// The point of 2D stratum `stratum`, from the next two jitter words.
     /// A power-of-two spp (one test for the three axis operations) stays
     /// small enough to inline; other counts take the general path out of
     /// line.
     #[inline(always)]
     fn point_2d(&mut self, stratum: u32) -> Vec2 {
-        if !self.pow2 {
-            return self.point_2d_general(stratum);
+        if self.pow2() {
+            self.point_2d_in::<true>(stratum)
+        } else {
+            self.point_2d_general(stratum)
         }
-        let jx = self.jitter();
-        let jy = self.jitter();
-        let [_, x, y] = self.axes;
-        let (row, column) = x.div_rem_pow2(stratum);
-        Vec2::new(x.point_pow2(column, jx), y.point_pow2(row, jy))
     }
 
-    /// [`Strata::point_2d`] for any spp.
     #[inline(never)]
     fn point_2d_general(&mut self, stratum: u32) -> Vec2 {
+        self.point_2d_in::<false>(stratum)
+    }
+
+    /// [`Strata::point_2d`], `POW2` saying whether the axes are powers of
+    /// two.
+    #[inline(always)]
+    fn point_2d_in<const POW2: bool>(&mut self, stratum: u32) -> Vec2 {
         let jx = self.jitter();
         let jy = self.jitter();
         let [_, x, y] = self.axes;
-        let (row, column) = x.div_rem(stratum);
-        Vec2::new(x.point(column, jx), y.point(row, jy))
+        let (row, column) = x.div_rem_as::<POW2>(stratum);
+        Vec2::new(x.point_as::<POW2>(column, jx), y.point_as::<POW2>(row, jy))
     }
 
     /// The point of 1D stratum `stratum`, from the next jitter word (as
     /// [`Strata::point_2d`]).
     #[inline(always)]
     fn point_1d(&mut self, stratum: u32) -> f32 {
-        if !self.pow2 {
-            return self.point_1d_general(stratum);
+        if self.pow2() {
+            self.point_1d_in::<true>(stratum)
+        } else {
+            self.point_1d_general(stratum)
         }
-        let j = self.jitter();
-        self.axes[0].point_pow2(stratum, j)
     }
 
-    /// [`Strata::point_1d`] for any spp.
     #[inline(never)]
     fn point_1d_general(&mut self, stratum: u32) -> f32 {
+        self.point_1d_in::<false>(stratum)
+    }
+
+    /// [`Strata::point_1d`], `POW2` as for [`Strata::point_2d_in`].
+    #[inline(always)]
+    fn point_1d_in<const POW2: bool>(&mut self, stratum: u32) -> f32 {
         let j = self.jitter();
-        self.axes[0].point(stratum, j)
+        self.axes[0].point_as::<POW2>(stratum, j)
     }
 
     #[inline]
