@@ -6,9 +6,10 @@
 //! A pixel sample is a point in `[0, 1)^d`. Dimensions 0 and 1 are the
 //! position in the pixel, returned by [`Sampler::pixel_2d`] whenever it is
 //! called. [`Sampler::next_1d`] and [`Sampler::next_2d`] then hand out
-//! dimensions 2, 3, … in call order (a 2D draw takes two). Every kind draws
-//! the same count of stream values per call, so dimension `k` of a sample
-//! has the same value whichever kind-independent path led to it.
+//! dimensions 2, 3, … in call order: a 1D draw takes one, a 2D draw two
+//! ([`Sobol`]'s 2D draws start on an even dimension, so one after an odd
+//! count of 1D draws skips one). What a kind draws is the same whichever
+//! kind it is, so the dimension a draw starts at never depends on the kind.
 //!
 //! # Determinism
 //!
@@ -262,7 +263,7 @@ fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
 }
 
 /// One stratified axis of `n` strata: where stratum `s` puts jitter
-/// bits `x` (a `u32` of the stream, whose 24 high bits are the jitter, as
+/// bits `x` (a jitter word, whose 24 high bits are the jitter, as
 /// [`u32_to_unit_f32`] reads them). The value is [`stratum_point`]'s;
 /// with `n` a power of two it comes from integers alone: `s·2²⁴ + J` is
 /// exact in an `i64`, its conversion to `f32` rounds as the `f64` path
@@ -341,6 +342,16 @@ impl Axis {
         } else {
             self.point(s, x)
         }
+    }
+
+    /// The point of stratum `s < n = 2^k` at jitter word `x`, on the
+    /// `2⁻²⁴` grid of [`u32_to_unit_f32`]: the stratum's `k` bits above
+    /// the jitter's `32 − k` high bits, read as one word. Exact, no
+    /// rounding, and inside the stratum by construction.
+    #[inline(always)]
+    fn fixed_point(self, s: u32, x: u32) -> f32 {
+        debug_assert!(self.shift <= 24 && s < self.n);
+        u32_to_unit_f32((((s as u64) << 32 | x as u64) >> self.shift) as u32)
     }
 
     /// `s / n` and `s % n` of an axis whose `n` is a power of two.
@@ -672,9 +683,37 @@ fn block_keys(keys: &mut BlockKeys, pixel_key: u64, pass: u32, axis: Axis, block
     }
 }
 
+/// Salt of the jitter words, apart from every other hash of a sample.
+const JITTER_SALT: u32 = 0x3707_3449;
+
+/// The jitter word of dimension `d` of the pixel sample hashed to `key`
+/// ([`crate::rng::stream_state`]): Wellons' `lowbias32` of the key's low
+/// word, the dimension and a salt, xored with the key's high word. 32-bit
+/// integer steps only, so a block of them is one SIMD loop.
+#[inline(always)]
+const fn jitter_word(key: u64, d: u32) -> u32 {
+    let mut x = (key as u32) ^ d.wrapping_mul(0x9e37_79b9) ^ JITTER_SALT;
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x ^ (key >> 32) as u32
+}
+
+/// The jitter words of block `block`'s dimensions and of the first one
+/// after it.
+#[inline]
+fn jitter_block(out: &mut [u32; STRATA_BLOCK + 1], key: u64, block: u32) {
+    let first = block.wrapping_mul(STRATA_BLOCK as u32);
+    for (l, o) in out.iter_mut().enumerate() {
+        *o = jitter_word(key, first.wrapping_add(l as u32));
+    }
+}
+
 /// The state the two strata samplers share; `JITTER` is the only
 /// difference between them, as in pbrt's `StratifiedSampler`. Without
-/// jitter every point is a stratum centre and the stream is never read.
+/// jitter every point is a stratum centre and no jitter word is hashed.
 #[derive(Clone, Debug)]
 struct Strata<const JITTER: bool> {
     spp: u32,
@@ -697,7 +736,11 @@ struct Strata<const JITTER: bool> {
     /// The block whose shuffled strata `strata` holds.
     block: u32,
     strata: [u32; STRATA_BLOCK],
-    rng: Pcg32,
+    /// The hash of the current pixel sample that its jitter words come
+    /// from, and the words of `block`'s dimensions and the one after it
+    /// (a 2D draw at a block's last dimension reads it).
+    sample_key: u64,
+    jitter: [u32; STRATA_BLOCK + 1],
     pixel_2d: Vec2,
 }
 
@@ -720,7 +763,8 @@ impl<const JITTER: bool> Strata<JITTER> {
             keys: [BlockKeys::ZERO; STRATA_KEYED_BLOCKS],
             block: 0,
             strata: [0; STRATA_BLOCK],
-            rng: pixel_sample_rng(seed, UVec2::ZERO, 0),
+            sample_key: 0,
+            jitter: [0; STRATA_BLOCK + 1],
             pixel_2d: Vec2::ZERO,
         };
         s.start(UVec2::ZERO, 0, shuffle_pixel);
@@ -753,6 +797,9 @@ impl<const JITTER: bool> Strata<JITTER> {
             &far
         };
         permute_block(self.slot, self.spp, self.mask, keys, &mut self.strata);
+        if JITTER {
+            jitter_block(&mut self.jitter, self.sample_key, block);
+        }
         self.block = block;
     }
 
@@ -764,21 +811,23 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.fill(block);
     }
 
-    /// The shuffled stratum of the current sample in `dimension`.
+    /// The lane of `dimension` in its block, filling the block first if
+    /// it is not the current one.
     #[inline]
-    fn stratum(&mut self, dimension: u32) -> u32 {
+    fn lane(&mut self, dimension: u32) -> usize {
         let block = dimension / STRATA_BLOCK as u32;
         if block != self.block {
             self.refill(block);
         }
-        self.strata[dimension as usize % STRATA_BLOCK]
+        dimension as usize % STRATA_BLOCK
     }
 
-    /// One jitter word per stratified coordinate, word `d` of the stream
-    /// for dimension `d`; the centre (jitter 0.5) without jitter.
-    #[inline]
-    fn jitter(&mut self) -> u32 {
-        if JITTER { self.rng.next_u32() } else { 1 << 31 }
+    /// The jitter word of lane `l` of the current block (`l` may be
+    /// [`STRATA_BLOCK`]: the next block's first dimension); the centre
+    /// (jitter 0.5) without jitter.
+    #[inline(always)]
+    fn jitter(&self, l: usize) -> u32 {
+        if JITTER { self.jitter[l] } else { 1 << 31 }
     }
 
     /// Whether spp, and so both axes of a 2D draw, is a power of two.
@@ -792,50 +841,56 @@ impl<const JITTER: bool> Strata<JITTER> {
     /// small enough to inline; other counts take the general path out of
     /// line.
     #[inline(always)]
-    fn point_2d(&mut self, stratum: u32) -> Vec2 {
+    fn point_2d(&self, l: usize, stratum: u32) -> Vec2 {
         if self.pow2() {
-            self.point_2d_in::<true>(stratum)
+            self.point_2d_in::<true>(l, stratum)
         } else {
-            self.point_2d_general(stratum)
+            self.point_2d_general(l, stratum)
         }
     }
 
     #[inline(never)]
-    fn point_2d_general(&mut self, stratum: u32) -> Vec2 {
-        self.point_2d_in::<false>(stratum)
+    fn point_2d_general(&self, l: usize, stratum: u32) -> Vec2 {
+        self.point_2d_in::<false>(l, stratum)
     }
 
     /// [`Strata::point_2d`], `POW2` saying whether the axes are powers of
     /// two.
     #[inline(always)]
-    fn point_2d_in<const POW2: bool>(&mut self, stratum: u32) -> Vec2 {
-        let jx = self.jitter();
-        let jy = self.jitter();
+    fn point_2d_in<const POW2: bool>(&self, l: usize, stratum: u32) -> Vec2 {
+        let jx = self.jitter(l);
+        let jy = self.jitter(l + 1);
         let [_, x, y] = self.axes;
         let (row, column) = x.div_rem_as::<POW2>(stratum);
+        if JITTER && POW2 {
+            return Vec2::new(x.fixed_point(column, jx), y.fixed_point(row, jy));
+        }
         Vec2::new(x.point_as::<POW2>(column, jx), y.point_as::<POW2>(row, jy))
     }
 
     /// The point of 1D stratum `stratum`, from the next jitter word (as
     /// [`Strata::point_2d`]).
     #[inline(always)]
-    fn point_1d(&mut self, stratum: u32) -> f32 {
+    fn point_1d(&self, l: usize, stratum: u32) -> f32 {
         if self.pow2() {
-            self.point_1d_in::<true>(stratum)
+            self.point_1d_in::<true>(l, stratum)
         } else {
-            self.point_1d_general(stratum)
+            self.point_1d_general(l, stratum)
         }
     }
 
     #[inline(never)]
-    fn point_1d_general(&mut self, stratum: u32) -> f32 {
-        self.point_1d_in::<false>(stratum)
+    fn point_1d_general(&self, l: usize, stratum: u32) -> f32 {
+        self.point_1d_in::<false>(l, stratum)
     }
 
     /// [`Strata::point_1d`], `POW2` as for [`Strata::point_2d_in`].
     #[inline(always)]
-    fn point_1d_in<const POW2: bool>(&mut self, stratum: u32) -> f32 {
-        let j = self.jitter();
+    fn point_1d_in<const POW2: bool>(&self, l: usize, stratum: u32) -> f32 {
+        let j = self.jitter(l);
+        if JITTER && POW2 {
+            return self.axes[0].fixed_point(stratum, j);
+        }
         self.axes[0].point_as::<POW2>(stratum, j)
     }
 
@@ -849,8 +904,8 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.slot = slot;
         self.pass = pass;
         if JITTER {
-            // pixel_sample_rng(seed, pixel, index), from the kept pixel hash.
-            self.rng = Pcg32::new(mix64(self.pixel.key ^ index as u64), STREAM);
+            // stream_state(seed, pixel, index), from the kept pixel hash.
+            self.sample_key = mix64(self.pixel.key ^ index as u64);
         }
         // Block 0 holds the pixel's stratum and the first draws'.
         self.fill(0);
@@ -859,32 +914,29 @@ impl<const JITTER: bool> Strata<JITTER> {
         } else {
             self.slot
         };
-        self.pixel_2d = self.point_2d(stratum);
+        self.pixel_2d = self.point_2d(0, stratum);
         self.dimension = 2;
     }
 
     #[inline]
     fn next_1d(&mut self) -> f32 {
-        let stratum = self.stratum(self.dimension);
+        let l = self.lane(self.dimension);
         self.dimension = self.dimension.wrapping_add(1);
-        self.point_1d(stratum)
+        self.point_1d(l, self.strata[l])
     }
 
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
-        let stratum = self.stratum(self.dimension);
+        let l = self.lane(self.dimension);
         self.dimension = self.dimension.wrapping_add(2);
-        self.point_2d(stratum)
+        self.point_2d(l, self.strata[l])
     }
 
-    /// Skips `n` coordinates: the dimension and the jitter words move, no
-    /// stratum is looked up.
+    /// Skips `n` coordinates: every value is a function of its dimension,
+    /// so only the dimension moves.
     #[inline]
     fn skip(&mut self, n: u32) {
         self.dimension = self.dimension.wrapping_add(n);
-        if JITTER {
-            self.rng.advance(u64::from(n));
-        }
     }
 
     #[inline]
@@ -965,6 +1017,13 @@ impl Sampler for UniformGrid {
 /// with its offset bug D3 fixed): each sample takes a uniform point inside
 /// its own stratum, and the strata of every dimension are shuffled
 /// independently.
+///
+/// The jitter of dimension `d` is a hash of the pixel sample and `d`
+/// (32-bit integer steps, a block of dimensions at a time). With `spp` a
+/// power of two, `2^k` strata on an axis, a point is the stratum's `k`
+/// bits above the jitter's `24 − k` high bits, on the `2⁻²⁴` grid that
+/// [`Independent`] draws from; other spp place the jitter in the stratum
+/// in `f64` and round into it.
 ///
 /// ```
 /// use glam::UVec2;
@@ -1674,18 +1733,29 @@ mod tests {
     }
 
     #[test]
-    fn kinds_consume_the_stream_alike() {
-        // Jitter of a stratified sample and the independent value of the
-        // same dimension come from the same stream word, so a sample with
-        // spp = 1 (one stratum) reproduces the independent sampler exactly.
-        let mut ind = Independent::new(1, 9).unwrap();
-        let mut st = Stratified::new(1, 9).unwrap();
+    fn stratified_jitter_is_a_function_of_the_dimension() {
+        // With spp = 1 there is one stratum and a value is its jitter
+        // alone: dimension d reads the same word whether a 1D draw or
+        // either half of a 2D draw reaches it, across the block edge too.
+        let pixel = UVec2::new(2, 3);
         for i in 0..4 {
-            ind.start_pixel_sample(UVec2::new(2, 3), i);
-            st.start_pixel_sample(UVec2::new(2, 3), i);
-            assert_eq!(ind.pixel_2d(), st.pixel_2d());
-            assert_eq!(ind.next_1d(), st.next_1d());
-            assert_eq!(ind.next_2d(), st.next_2d());
+            let mut ones = Stratified::new(1, 9).unwrap();
+            let mut twos = ones.clone();
+            let mut odd = ones.clone();
+            ones.start_pixel_sample(pixel, i);
+            twos.start_pixel_sample(pixel, i);
+            odd.start_pixel_sample(pixel, i);
+            let by_one: [f32; 20] = core::array::from_fn(|_| ones.next_1d());
+            let first = odd.next_1d();
+            assert_eq!(first, by_one[0]);
+            for k in 0..9 {
+                let v = twos.next_2d();
+                assert_eq!((v.x, v.y), (by_one[2 * k], by_one[2 * k + 1]));
+                let w = odd.next_2d();
+                assert_eq!((w.x, w.y), (by_one[2 * k + 1], by_one[2 * k + 2]));
+            }
+            // Distinct dimensions are not one word repeated.
+            assert_ne!(by_one[0], by_one[1]);
         }
     }
 
@@ -1742,6 +1812,7 @@ mod tests {
 #[cfg(test)]
 mod reference {
     use super::*;
+    use crate::rng::stream_state;
 
     /// Sobol' dimension `d` of sample `index` of `pixel`.
     pub fn sobol_value(seed: u64, pixel: UVec2, index: u32, d: u32) -> f32 {
@@ -1794,7 +1865,16 @@ mod reference {
         stratum_point(stratum, j, cells, 1.0 / cells as f64)
     }
 
-    /// A strata sampler that hashes every key and rebuilds every stream.
+    /// Wellons' `lowbias32`, as published.
+    fn lowbias32(mut x: u32) -> u32 {
+        x ^= x >> 16;
+        x = x.wrapping_mul(0x7feb_352d);
+        x ^= x >> 15;
+        x = x.wrapping_mul(0x846c_a68b);
+        x ^ x >> 16
+    }
+
+    /// A strata sampler that hashes every key and every jitter word.
     pub struct Strata {
         pub spp: u32,
         pub seed: u64,
@@ -1803,7 +1883,6 @@ mod reference {
         pub pixel: UVec2,
         pub index: u32,
         pub dimension: u32,
-        pub rng: Pcg32,
     }
 
     impl Strata {
@@ -1813,43 +1892,54 @@ mod reference {
             permute(self.index % self.spp, self.spp, (key >> 32) as u32)
         }
 
-        fn jitter(&mut self) -> f32 {
-            let u = u32_to_unit_f32(self.rng.next_u32());
-            if self.jitter { u } else { 0.5 }
+        /// The point of stratum `s` of `n` at the jitter word of
+        /// dimension `d`: on the 2⁻²⁴ grid for a jittered power of two,
+        /// else `stratum_point` (a centre without jitter).
+        fn point(&self, s: u32, n: u32, d: u32) -> f32 {
+            if !self.jitter {
+                return stratum_point(s, 0.5, n, 1.0 / n as f64);
+            }
+            let key = stream_state(self.seed, self.pixel, self.index);
+            let x = lowbias32(key as u32 ^ d.wrapping_mul(0x9e37_79b9) ^ 0x3707_3449);
+            let word = x ^ (key >> 32) as u32;
+            if n.is_power_of_two() {
+                let k = n.trailing_zeros();
+                let cells = 1u64 << (24 - k);
+                let v = (s as u64 * cells + (word as u64 >> (8 + k))) as f64;
+                (v / 16_777_216.0) as f32
+            } else {
+                stratum_point(s, u32_to_unit_f32(word), n, 1.0 / n as f64)
+            }
         }
 
-        fn point_2d(&mut self, stratum: u32) -> Vec2 {
+        fn point_2d(&mut self, stratum: u32, d: u32) -> Vec2 {
             let (nx, ny) = grid_dims(self.spp);
-            let jx = self.jitter();
-            let jy = self.jitter();
             Vec2::new(
-                stratum_point(stratum % nx, jx, nx, 1.0 / nx as f64),
-                stratum_point(stratum / nx, jy, ny, 1.0 / ny as f64),
+                self.point(stratum % nx, nx, d),
+                self.point(stratum / nx, ny, d.wrapping_add(1)),
             )
         }
 
         pub fn start(&mut self, pixel: UVec2, index: u32) -> Vec2 {
             (self.pixel, self.index, self.dimension) = (pixel, index, 2);
-            self.rng = pixel_sample_rng(self.seed, pixel, index);
             let s = if self.shuffle_pixel {
                 self.stratum(0)
             } else {
                 index % self.spp
             };
-            self.point_2d(s)
+            self.point_2d(s, 0)
         }
 
         pub fn next_1d(&mut self) -> f32 {
-            let s = self.stratum(self.dimension);
-            self.dimension = self.dimension.wrapping_add(1);
-            let j = self.jitter();
-            stratum_point(s, j, self.spp, 1.0 / self.spp as f64)
+            let d = self.dimension;
+            self.dimension = d.wrapping_add(1);
+            self.point(self.stratum(d), self.spp, d)
         }
 
         pub fn next_2d(&mut self) -> Vec2 {
-            let s = self.stratum(self.dimension);
-            self.dimension = self.dimension.wrapping_add(2);
-            self.point_2d(s)
+            let d = self.dimension;
+            self.dimension = d.wrapping_add(2);
+            self.point_2d(self.stratum(d), d)
         }
     }
 }
@@ -1902,7 +1992,6 @@ mod fast_paths {
             pixel: UVec2::ZERO,
             index: 0,
             dimension: 2,
-            rng: pixel_sample_rng(0, UVec2::ZERO, 0),
         };
         visits(spp, |pixel, index, draws| {
             fast.start(pixel, index, shuffle);
