@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 use rand_distr::{Distribution, UnitDisc, UnitSphere};
 use strata::mapping::{self, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
-use strata::sampler::{Independent, Stratified, UniformGrid};
+use strata::sampler::{Halton, Independent, Sobol, Stratified, UniformGrid, ZSobol};
 use strata_runner::workload::sampler_pattern;
 
 const N: usize = 4096;
@@ -173,6 +173,19 @@ fn samplers(c: &mut Criterion) {
     let mut st = Stratified::new(SPP, 1).unwrap();
     g.bench_function("stratified", |b| {
         b.iter(|| sampler_pattern(black_box(&mut st), SPP))
+    });
+    let mut sobol = Sobol::new(SPP, 1).unwrap();
+    g.bench_function("sobol", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut sobol), SPP))
+    });
+    let mut halton = Halton::new(SPP, 1).unwrap();
+    g.bench_function("halton", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut halton), SPP))
+    });
+    // The pattern's 16 × 16 pixels as the image.
+    let mut zsobol = ZSobol::new(SPP, 1, glam::UVec2::splat(16)).unwrap();
+    g.bench_function("zsobol", |b| {
+        b.iter(|| sampler_pattern(black_box(&mut zsobol), SPP))
     });
     g.finish();
 }

@@ -2,8 +2,11 @@
 //!
 //! # The stream contract
 //!
-//! Every random number Strata draws for a pixel sample comes from a
-//! [`Pcg32`] (PCG XSH-RR 64/32, O'Neill 2014) created for that sample alone:
+//! The independent sampler's random numbers come from a [`Pcg32`] (PCG
+//! XSH-RR 64/32, O'Neill 2014) created for that sample alone; the other
+//! samplers hash the same per-sample `state` (the stratified jitter), the
+//! pixel hash `h2` or the seed (their permutation and scrambling keys)
+//! instead of drawing from it:
 //!
 //! ```text
 //! h1    = mix64(seed ^ 0x9e37_79b9_7f4a_7c15)

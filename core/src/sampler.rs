@@ -6,10 +6,9 @@
 //! A pixel sample is a point in `[0, 1)^d`. Dimensions 0 and 1 are the
 //! position in the pixel, returned by [`Sampler::pixel_2d`] whenever it is
 //! called. [`Sampler::next_1d`] and [`Sampler::next_2d`] then hand out
-//! dimensions 2, 3, … in call order: a 1D draw takes one, a 2D draw two
-//! ([`Sobol`]'s 2D draws start on an even dimension, so one after an odd
-//! count of 1D draws skips one). What a kind draws is the same whichever
-//! kind it is, so the dimension a draw starts at never depends on the kind.
+//! dimensions 2, 3, … in call order: a 1D draw takes one, a 2D draw two.
+//! Every kind but [`Sobol`] starts a draw at the dimension after the
+//! previous draw's; Sobol' aligns a 2D draw to an even dimension.
 //!
 //! # Determinism
 //!
@@ -71,8 +70,8 @@
 //! so the error is blue noise); the others treat every pixel
 //! independently.
 //!
-//! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat a
-//! stream), and have no `Default` that would hide a seed. They are `Send +
+//! Samplers are `Clone + Debug`, never `Copy` (a silent copy would repeat its
+//! samples), and have no `Default` that would hide a seed. They are `Send +
 //! Sync`; each thread owns its own.
 
 use glam::{UVec2, Vec2};
@@ -264,10 +263,12 @@ fn stratum_point(s: u32, j: f32, n: u32, inv_n: f64) -> f32 {
 
 /// One stratified axis of `n` strata: where stratum `s` puts jitter
 /// bits `x` (a jitter word, whose 24 high bits are the jitter, as
-/// [`u32_to_unit_f32`] reads them). The value is [`stratum_point`]'s;
-/// with `n` a power of two it comes from integers alone: `s·2²⁴ + J` is
-/// exact in an `i64`, its conversion to `f32` rounds as the `f64` path
+/// [`u32_to_unit_f32`] reads them). [`Axis::point`] is [`stratum_point`]'s
+/// value; with `n` a power of two it comes from integers alone: `s·2²⁴ + J`
+/// is exact in an `i64`, its conversion to `f32` rounds as the `f64` path
 /// does, and the scale `2^-(24+k)` is exact, so the bits are the same.
+/// [`Axis::fixed_point`] is the jittered sampler's placement on a
+/// power-of-two axis.
 #[derive(Clone, Copy, Debug)]
 struct Axis {
     n: u32,
@@ -346,8 +347,9 @@ impl Axis {
 
     /// The point of stratum `s < n = 2^k` at jitter word `x`, on the
     /// `2⁻²⁴` grid of [`u32_to_unit_f32`]: the stratum's `k` bits above
-    /// the jitter's `32 − k` high bits, read as one word. Exact, no
-    /// rounding, and inside the stratum by construction.
+    /// the jitter word's high bits, of which `24 − k` survive (none at
+    /// `k = 24`: the stratum's left end). Exact, no rounding, and inside
+    /// the stratum by construction.
     #[inline(always)]
     fn fixed_point(self, s: u32, x: u32) -> f32 {
         debug_assert!(self.shift <= 24 && s < self.n);
@@ -683,7 +685,7 @@ fn block_keys(keys: &mut BlockKeys, pixel_key: u64, pass: u32, axis: Axis, block
     }
 }
 
-/// Salt of the jitter words, apart from every other hash of a sample.
+/// Salt of the jitter words' input.
 const JITTER_SALT: u32 = 0x3707_3449;
 
 /// The jitter word of dimension `d` of the pixel sample hashed to `key`
@@ -836,7 +838,8 @@ impl<const JITTER: bool> Strata<JITTER> {
         self.axes[0].shift != Axis::GENERAL
     }
 
-    /// The point of 2D stratum `stratum`, from the next two jitter words.
+    /// The point of 2D stratum `stratum`, from the jitter words of lanes
+    /// `l` and `l + 1`.
     /// A power-of-two spp (one test for the three axis operations) stays
     /// small enough to inline; other counts take the general path out of
     /// line.
@@ -862,13 +865,26 @@ impl<const JITTER: bool> Strata<JITTER> {
         let jy = self.jitter(l + 1);
         let [_, x, y] = self.axes;
         let (row, column) = x.div_rem_as::<POW2>(stratum);
-        if JITTER && POW2 {
-            return Vec2::new(x.fixed_point(column, jx), y.fixed_point(row, jy));
-        }
-        Vec2::new(x.point_as::<POW2>(column, jx), y.point_as::<POW2>(row, jy))
+        Vec2::new(
+            Self::place::<POW2>(x, column, jx),
+            Self::place::<POW2>(y, row, jy),
+        )
     }
 
-    /// The point of 1D stratum `stratum`, from the next jitter word (as
+    /// The point of stratum `s` of `axis` at jitter word `x`: on the
+    /// `2⁻²⁴` grid ([`Axis::fixed_point`]) for jittered strata of a
+    /// power-of-two axis, else [`Axis::point`] (a centre without jitter).
+    /// `POW2`: the caller knows the axis is a power of two.
+    #[inline(always)]
+    fn place<const POW2: bool>(axis: Axis, s: u32, x: u32) -> f32 {
+        if JITTER && (POW2 || axis.shift != Axis::GENERAL) {
+            axis.fixed_point(s, x)
+        } else {
+            axis.point_as::<POW2>(s, x)
+        }
+    }
+
+    /// The point of 1D stratum `stratum`, from lane `l`'s jitter word (as
     /// [`Strata::point_2d`]).
     #[inline(always)]
     fn point_1d(&self, l: usize, stratum: u32) -> f32 {
@@ -887,11 +903,7 @@ impl<const JITTER: bool> Strata<JITTER> {
     /// [`Strata::point_1d`], `POW2` as for [`Strata::point_2d_in`].
     #[inline(always)]
     fn point_1d_in<const POW2: bool>(&self, l: usize, stratum: u32) -> f32 {
-        let j = self.jitter(l);
-        if JITTER && POW2 {
-            return self.axes[0].fixed_point(stratum, j);
-        }
-        self.axes[0].point_as::<POW2>(stratum, j)
+        Self::place::<POW2>(self.axes[0], stratum, self.jitter(l))
     }
 
     #[inline]
@@ -1977,7 +1989,8 @@ mod fast_paths {
         }
     }
 
-    const SPPS: [u32; 9] = [1, 2, 3, 7, 16, 30, 64, 100, 256];
+    // 6, 12 and 24: a power-of-two axis in a spp that is not one.
+    const SPPS: [u32; 12] = [1, 2, 3, 6, 7, 12, 16, 24, 30, 64, 100, 256];
 
     fn check_strata<const JITTER: bool>(spp: u32) {
         // The grid keeps its pixel strata in raster order.

@@ -180,17 +180,32 @@ pub const MIN_JUDGED_CORES: f64 = 1.85;
 ///   as two 4-lane halves and are not judged.
 /// - 2 threads / 1 thread: 1.9×, judged only when the 2-thread run had
 ///   [`MIN_JUDGED_CORES`].
+/// - A sampler's pixel samples per second against the independent
+///   sampler's ([`SAMPLER_TARGETS`]): what a better sampler may cost for
+///   its gain to survive at equal time. ZSobol is reported, not judged.
 #[must_use]
 pub fn target(ratio: &str, simd: strata::trace::SimdLevel) -> Option<f64> {
     use strata::trace::SimdLevel;
     if ratio.ends_with("2 threads / 1 thread") {
         return Some(1.9);
     }
+    if let Some(&(_, t)) = SAMPLER_TARGETS.iter().find(|(name, _)| *name == ratio) {
+        return Some(t);
+    }
     if ratio.ends_with("packet / scalar") {
         return matches!(simd, SimdLevel::Avx2 | SimdLevel::Avx512).then_some(PACKET_TARGET);
     }
     None
 }
+
+/// Targets of the sampler comparison (`sampling / sampler`), as ratios to
+/// the independent sampler in the same run.
+pub const SAMPLER_TARGETS: [(&str, f64); 4] = [
+    ("sampler grid / independent", 0.35),
+    ("sampler stratified / independent", 0.35),
+    ("sampler sobol / independent", 0.6),
+    ("sampler halton / independent", 0.1),
+];
 
 /// Packet / scalar target of AVX2 and AVX-512 builds: below every packet
 /// comparison's measured median on both levels (lowest 4.0×, see
@@ -419,7 +434,7 @@ pub fn table(r: &Report) -> String {
             Verdict::NotJudged(why) => format!("not judged: {why}"),
         };
         out += &format!(
-            "  {:<52} {:6.2}x  (target {:.1}x)  {verdict}\n",
+            "  {:<52} {:6.2}x  (target {}x)  {verdict}\n",
             g.name, g.measured, g.target,
         );
     }
@@ -523,6 +538,14 @@ mod tests {
                 "bvh closest/cover_incoherent bvh / brute",
                 SimdLevel::Avx512
             ),
+            None
+        );
+        assert_eq!(
+            target("sampler sobol / independent", SimdLevel::Sse2),
+            Some(0.6)
+        );
+        assert_eq!(
+            target("sampler zsobol / independent", SimdLevel::Avx2),
             None
         );
     }

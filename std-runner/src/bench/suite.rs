@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 use strata::mapping::{self, Cone, rejection};
 use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
-use strata::{Halton, Independent, Sobol, Stratified, UniformGrid};
+use strata::{Halton, Independent, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::render::{Job, run};
 use crate::scenes::{SceneBuffers, built_in};
@@ -142,6 +142,8 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
     let mut st = Stratified::new(SPP, 1).expect("spp > 0");
     let mut sob = Sobol::new(SPP, 1).expect("spp > 0");
     let mut hal = Halton::new(SPP, 1).expect("spp > 0");
+    // The pattern's 16 × 16 pixels as the image.
+    let mut zs = ZSobol::new(SPP, 1, glam::UVec2::splat(16))?;
     s.compare(
         "sampling",
         "sampler",
@@ -161,6 +163,9 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
             }),
             contender("halton", units, || {
                 sampler_pattern(&mut hal, SPP).to_bits() as u64
+            }),
+            contender("zsobol", units, || {
+                sampler_pattern(&mut zs, SPP).to_bits() as u64
             }),
         ],
         true,
