@@ -24,8 +24,8 @@
 //! ([`PixelSum::mean`](crate::render::PixelSum::mean), as pbrt-v4's film):
 //! slightly biased for a finite count, consistent, exact in flat regions,
 //! and far less noisy for filters with negative lobes, whose weights change
-//! sign between samples (the plain mean where `|Σ w| < n/4`, so few samples
-//! cannot blow it up).
+//! sign between samples (the box mean of the pixel's own samples where
+//! `|Σ w| < n/2`, so few samples cannot blow it up).
 //! Each `w·L / E[w]` term alone is an unbiased estimate, which is what
 //! the suite's convergence test checks.
 //!

@@ -789,10 +789,10 @@ fn split_renders_merge_into_the_one_shot_image() {
         merge("m.film");
         ok(d, &["merge", "m.film", "-o", "again.png"]);
         assert_eq!(bytes(&d.join("again.png")), bytes(&d.join("full.png")));
-        // The film is 40 bytes a pixel and a short header.
+        // The film is 64 bytes a pixel and a short header.
         let film = bytes(&d.join("m.film")).len();
         assert!(
-            (40 * 22 * 40..40 * 22 * 40 + 1024).contains(&film),
+            (64 * 22 * 40..64 * 22 * 40 + 1024).contains(&film),
             "{film}"
         );
         // Staged: the left's two runs, then the right's two windows, then

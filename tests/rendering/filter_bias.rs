@@ -168,14 +168,6 @@ fn every_filter_averages_to_its_convolution_of_the_image() {
             let filter = PixelFilter::new(kind, kind.default_radius()).unwrap();
             let name = kind.name();
             for spp in [1, 4, 16] {
-                // Known and documented (README, "Pixel filters"): splatted
-                // Lanczos at 1 spp is 4 % dark (116 of 882 pixels beyond
-                // 3 s.e. on week09). A pixel whose 49 neighbours' weights
-                // sum below a quarter takes Σ f·L / n, which, given so
-                // small a sum, is dark. From 2 spp on it passes.
-                if kind.name() == "lanczos" && spp == 1 {
-                    continue;
-                }
                 let c = check(scene, (w, h), &reference, filter, spp);
                 eprintln!(
                     "{scene} {name} {spp} spp: {} of {} beyond 3 s.e. ({} if 2 % too bright)",

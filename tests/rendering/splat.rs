@@ -35,8 +35,9 @@ fn splatted_pixels_are_exact_where_radiance_is_constant() {
     // filter (the same sample positions: splats are placed by the box)
     // shows which pixels saw only sky; a pixel whose whole splat
     // neighbourhood saw only sky gathers only samples of 1, so it is 1
-    // exactly, whatever the weights' signs, at every spp, wherever the
-    // film keeps the ratio Σ f·L / Σ f.
+    // exactly, whatever the weights' signs, at every spp: the ratio
+    // Σ f·L / Σ f, and where the weights nearly cancel the box mean of
+    // its own samples.
     let scene = built_in("horizon").unwrap();
     let (w, h) = (64, 36);
     for name in ["mitchell", "lanczos"] {
@@ -68,26 +69,20 @@ fn splatted_pixels_are_exact_where_radiance_is_constant() {
                 for x in 0..w as i64 {
                     let clear = (-m..=m).all(|dy| (-m..=m).all(|dx| sky(x + dx, y + dy)));
                     let p = got[(y * w as i64 + x) as usize];
-                    // Where the weights sum below a quarter of the pixel's
-                    // samples the film takes the plain mean Σ f·L / n
-                    // instead (PixelSum::denominator), which is not exact.
-                    let ratio = p.weight as f64 >= 0.25 * p.samples as f64 * 16_777_216.0;
-                    if clear && ratio {
+                    if clear {
                         checked += 1;
+                        fallbacks += u32::from(p.falls_back());
                         assert_eq!(p.mean(), Vec3::ONE, "{name} {spp} spp: pixel ({x}, {y})");
                     }
-                    fallbacks += (clear && !ratio) as u32;
                 }
             }
             assert!(checked > 200, "{name} {spp} spp: {checked} sky pixels");
-            // Measured: none at 4 and 16 spp; at 1 spp 1 of 684 sky pixels
-            // for Mitchell and 23 of 613 (3.8 %) for Lanczos.
-            let most = if spp == 1 { 0.06 } else { 0.0 };
-            assert!(
-                fallbacks as f64 <= most * (checked + fallbacks) as f64,
-                "{name} {spp} spp: {fallbacks} of {} sky pixels fell back",
-                checked + fallbacks
-            );
+            // Both kinds of pixel are checked: measured, at 1 spp 1 of 685
+            // sky pixels fell back for Mitchell and 23 of 636 for Lanczos,
+            // none at 4 and 16 spp.
+            if name == "lanczos" && spp == 1 {
+                assert!(fallbacks > 0, "no fallback pixel was checked");
+            }
         }
     }
 }

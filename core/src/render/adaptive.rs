@@ -28,8 +28,8 @@
 //!   Sobol' family, Halton) make the parts slightly dependent;
 //! - under a filter whose weights vary, each part's mean is the film's
 //!   ratio `Σ w·L / Σ w` over that part alone, biased by `O(1/b)` where a
-//!   plain mean is `O(1/n)`, and a part of few samples falls back to the
-//!   plain mean (`|Σ w| < n/4`) more often than a whole pixel would.
+//!   plain mean is `O(1/n)`, and a part of few samples falls back to its
+//!   box mean (`|Σ w| < n/2`) more often than a whole pixel would.
 //!
 //! Where both halves agree (`r_A = r_B = r`) every sample weighs the
 //! same, as in a plain mean; where only half A saw a rare bright path,
@@ -261,18 +261,20 @@ impl Adaptive {
 /// ```
 ///
 /// With weights of 1, `σ` is the sample standard deviation. Where the
-/// film falls back to the plain mean of `w·y` (`|Σ w| < n/4`), `σ` is
-/// that mean's per-sample deviation.
+/// film falls back to the box mean of `y` (`|Σ w| < n/2`), `R` and `σ` are
+/// that mean and the sample standard deviation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PilotStats {
     n: u32,
     rays: u64,
-    /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y².
+    /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y², and Σ y, Σ y² for the box mean.
     w: f64,
     wy: f64,
     w2: f64,
     w2y: f64,
     w2y2: f64,
+    y: f64,
+    y2: f64,
 }
 
 impl PilotStats {
@@ -285,6 +287,8 @@ impl PilotStats {
         w2: 0.0,
         w2y: 0.0,
         w2y2: 0.0,
+        y: 0.0,
+        y2: 0.0,
     };
 
     /// Adds a sample: radiance `l` with filter weight `w`, which traced
@@ -304,6 +308,8 @@ impl PilotStats {
         self.w2 += w * w;
         self.w2y += w * w * y;
         self.w2y2 += w * w * y * y;
+        self.y += y;
+        self.y2 += y * y;
     }
 
     /// Adds another's sums: the statistics of both sets of samples.
@@ -316,6 +322,8 @@ impl PilotStats {
         self.w2 += o.w2;
         self.w2y += o.w2y;
         self.w2y2 += o.w2y2;
+        self.y += o.y;
+        self.y2 += o.y2;
     }
 
     /// Finite samples added.
@@ -334,7 +342,7 @@ impl PilotStats {
             return None;
         }
         let n = self.n as f64;
-        Some(if libm::fabs(self.w) >= 0.25 * n {
+        Some(if libm::fabs(self.w) >= super::film::FALLBACK_SHARE * n {
             let r = self.wy / self.w;
             let s = (self.w2y2 - 2.0 * r * self.w2y + r * r * self.w2).max(0.0);
             (
@@ -342,9 +350,9 @@ impl PilotStats {
                 n * crate::float::sqrt(s / (n - 1.0)) / libm::fabs(self.w),
             )
         } else {
-            // The plain mean of v = w·y: Σ v = wy, Σ v² = w2y2.
-            let m = self.wy / n;
-            let var = ((self.w2y2 - m * self.wy) / (n - 1.0)).max(0.0);
+            // The box mean of y, as the film's fallback.
+            let m = self.y / n;
+            let var = ((self.y2 - m * self.y) / (n - 1.0)).max(0.0);
             (m, crate::float::sqrt(var))
         })
     }

@@ -481,6 +481,8 @@ const SPLAT_RADIANCE_SCALE: f32 = 262_144.0;
 #[derive(Clone, Copy, Debug)]
 pub struct Splat {
     l: [i64; 3],
+    /// The radiance in the film's units, for its own pixel's box sum.
+    own: [i64; 3],
     /// Every filter value within `±2¹⁴` units (`±4`): no product
     /// overflows, so [`Splat::add_square`] needs no saturating multiplies.
     small: bool,
@@ -512,6 +514,7 @@ impl Splat {
         let small = |f: &[i64; SPLAT_SIDE]| f.iter().all(|v| v.unsigned_abs() <= 1 << 14);
         Some(Splat {
             l: lc.to_array().map(|c| fixed(c, SPLAT_RADIANCE_SCALE)),
+            own: lc.to_array().map(super::film::to_fixed),
             small: small(&fx) && small(&fy),
             fx,
             fy,
@@ -526,7 +529,8 @@ impl Splat {
     }
 
     /// Adds the splat to target `(dx, dy)`'s accumulator, counting it as
-    /// one of that pixel's samples if `own`.
+    /// one of that pixel's samples (and its radiance in the pixel's own
+    /// sum) if `own`.
     #[inline]
     pub fn add_to(&self, pixel: &mut PixelSum, dx: usize, dy: usize, own: bool) {
         let f = self.weight(dx, dy);
@@ -542,8 +546,18 @@ impl Splat {
             pixel.weight = pixel.weight.saturating_add(f);
         }
         if own {
-            pixel.samples = pixel.samples.saturating_add(1);
+            self.add_own(pixel);
         }
+    }
+
+    /// Counts the splat as one of `pixel`'s own samples: its radiance to
+    /// the own sum, and the sample count.
+    #[inline]
+    pub(crate) fn add_own(&self, pixel: &mut PixelSum) {
+        for (o, l) in pixel.own.iter_mut().zip(self.own) {
+            *o = o.saturating_add(l);
+        }
+        pixel.samples = pixel.samples.saturating_add(1);
     }
 
     /// Adds the splat to its `side × side` targets, target `(dx, dy)` at
@@ -757,7 +771,7 @@ pub fn render_tile_splat<S: Sampler + Clone>(
                             splat.add_square::<true>(film, first, pw, side);
                         }
                     }
-                    film[own].samples = film[own].samples.saturating_add(1);
+                    splat.add_own(&mut film[own]);
                 });
             }
         },

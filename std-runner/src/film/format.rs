@@ -14,10 +14,10 @@ use super::key::{
 use crate::limits::{MAX_PIXELS, MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
-pub const MAGIC: &str = "strata-film 3";
+pub const MAGIC: &str = "strata-film 4";
 
 /// Bytes per pixel in a film's body.
-pub const BYTES_PER_PIXEL: usize = 40;
+pub const BYTES_PER_PIXEL: usize = 64;
 
 impl Film {
     /// The file bytes: header and body.
@@ -30,6 +30,9 @@ impl Film {
             }
             body.extend_from_slice(&p.samples.to_le_bytes());
             body.extend_from_slice(&p.dropped.to_le_bytes());
+            for s in p.own {
+                body.extend_from_slice(&s.to_le_bytes());
+            }
         }
         let mut head = String::new();
         writeln!(head, "{MAGIC}").unwrap();
@@ -173,6 +176,7 @@ impl Film {
                 PixelSum {
                     sum: [i(0), i(1), i(2)],
                     weight: i(3),
+                    own: [i(5), i(6), i(7)],
                     samples: u(32),
                     dropped: u(36),
                 }

@@ -21,10 +21,10 @@
 //! edge is complete once its neighbours' parts are merged. Films of
 //! filters that do not splat have no border.
 //!
-//! The format (version 3) is a text header and a binary body:
+//! The format (version 4) is a text header and a binary body:
 //!
 //! ```text
-//! strata-film 3
+//! strata-film 4
 //! version=0.1.0+r1
 //! scene=cover
 //! ...                      the RenderKey fields, then:
@@ -33,9 +33,10 @@
 //! border=N                 only for N > 0: the extent's border
 //! checksum=<16 hex digits> FNV-1a 64 of the body
 //!                          (an empty line ends the header)
-//! body: one record per extent pixel, row-major, 40 bytes each,
+//! body: one record per extent pixel, row-major, 64 bytes each,
 //!       little-endian: weighted sums r, g, b and the filter-weight sum as
-//!       i64 (units of 2^-24), samples u32, dropped u32.
+//!       i64 (units of 2^-24), samples u32, dropped u32, then the own
+//!       samples' unweighted sums r, g, b as i64 (units of 2^-24).
 //! ```
 //!
 //! An adaptive render (`adaptive=threshold=T min=N max=M`, with `spp` =

@@ -32,6 +32,7 @@ fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
             .map(|i| PixelSum {
                 sum: [i as i64, -(i as i64), 1 << 40],
                 weight: (n as i64 - 1) << 24,
+                own: [2 * i as i64, 5, -(1 << 41)],
                 samples: n - 1,
                 dropped: 1,
             })
@@ -92,11 +93,15 @@ fn damaged_or_hostile_films_are_refused() {
     assert!(e.contains("truncated"), "{e}");
     let e = refused(&good[..40]);
     assert!(e.contains("truncated"), "{e}");
-    let e = refused(b"strata-film 3\n\nxyz");
+    let e = refused(b"strata-film 4\n\nxyz");
     assert!(e.contains("no `version`"), "{e}");
     let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
     assert!(e.contains("repeats `seed`"), "{e}");
-    for old in [&b"strata-film 1\n"[..], b"strata-film 2\n"] {
+    for old in [
+        &b"strata-film 1\n"[..],
+        b"strata-film 2\n",
+        b"strata-film 3\n",
+    ] {
         let e = refused(old);
         assert!(e.contains("another format version"), "{e}");
     }
@@ -196,6 +201,7 @@ fn with_border(mut f: Film, r: f32) -> Film {
             PixelSum {
                 sum: [x as i64, y as i64, 3],
                 weight: 1 << 20,
+                own: if own { [y as i64, 7, x as i64] } else { [0; 3] },
                 samples: if own { n } else { 0 },
                 dropped: 0,
             }
