@@ -18,7 +18,10 @@
 //! and the pixel's value is `Σ w·L / Σ w` (pbrt-v4's film): for the box
 //! and tent, whose weights are exactly 1, that is the plain mean; for
 //! filters with negative lobes it keeps the weights' noise out of flat
-//! regions. Both sums are exact, so merges stay exact. A splatted pixel
+//! regions; where the weights nearly cancel it is the box mean of the
+//! pixel's own samples, whose unweighted sum the film keeps too (as its
+//! difference from the weighted one, 0 with weights of 1). Every sum is
+//! exact, so merges stay exact. A splatted pixel
 //! ([`Splat`](super::Splat)) gathers `f·L` and `f` from every sample
 //! within the filter's reach, up to `(2m + 1)²` per sample of its own, so
 //! it saturates that much sooner; once a sum saturates, the order of
@@ -58,17 +61,22 @@ pub(crate) fn to_fixed(x: f32) -> i64 {
 /// One pixel's exact accumulator: fixed-point sums of the weighted RGB,
 /// of the filter weights and of its own samples' unweighted RGB, and
 /// sample counts. 64 bytes; `Copy`, `Send`, `Sync`.
+// `repr(C)`: `sum` and `weight` side by side, so one sample's four adds
+// are one vector operation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(C)]
 pub struct PixelSum {
     /// Sum of the kept samples' weighted RGB `w·L` in units of `2⁻²⁴`.
     pub sum: [i64; 3],
     /// Sum of the kept samples' filter weights `w` in units of `2⁻²⁴`.
     pub weight: i64,
-    /// Sum of the pixel's own kept samples' RGB `L`, unweighted, in units
-    /// of `2⁻²⁴`: the box mean the value falls back to where the weights
-    /// nearly cancel ([`PixelSum::mean`]). With weights of 1 it equals
-    /// `sum` (a [`PixelSum::blend`]'s too: its weights are 1).
-    pub own: [i64; 3],
+    /// The sum of the pixel's own kept samples' RGB `L`, unweighted,
+    /// minus `sum`, in units of `2⁻²⁴` (wrapping): [`PixelSum::own`] is
+    /// the box mean's numerator the value falls back to where the weights
+    /// nearly cancel ([`PixelSum::mean`]). Kept as a difference so that
+    /// with weights of 1 (the box filter, a [`PixelSum::blend`]) it stays
+    /// 0 and costs nothing.
+    pub own_minus_sum: [i64; 3],
     /// Samples summed.
     pub samples: u32,
     /// Samples dropped for a NaN or infinite channel.
@@ -82,7 +90,7 @@ impl PixelSum {
     pub const ZERO: PixelSum = PixelSum {
         sum: [0; 3],
         weight: 0,
-        own: [0; 3],
+        own_minus_sum: [0; 3],
         samples: 0,
         dropped: 0,
     };
@@ -101,12 +109,35 @@ impl PixelSum {
     /// ```
     #[inline]
     pub fn add_sample(&mut self, v: Vec3) {
-        self.add_weighted(v, 1.0);
+        if !v.is_finite() {
+            self.dropped = self.dropped.saturating_add(1);
+            return;
+        }
+        self.add_unit(v, 1.0);
+    }
+
+    /// Adds `l` with weight `w`, which must be 1 (the box's, given at run
+    /// time: the four roundings of `l` and `w` are then one vector
+    /// operation), leaving `own_minus_sum`: the own sums move with the
+    /// sums.
+    #[inline]
+    pub(crate) fn add_unit(&mut self, l: Vec3, w: f32) {
+        debug_assert!(w == 1.0);
+        let v = l * w;
+        if !v.is_finite() {
+            self.dropped = self.dropped.saturating_add(1);
+            return;
+        }
+        for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
+            *s = s.saturating_add(to_fixed(x));
+        }
+        self.weight = self.weight.saturating_add(to_fixed(w));
+        self.samples = self.samples.saturating_add(1);
     }
 
     /// Adds radiance `l` with filter weight `w`: `w·l` to the sum, `w` to
-    /// the weight and `l` to the own sum (or counts the sample as dropped
-    /// if `w·l` or `w` is not finite).
+    /// the weight and `l` to the own sum ([`PixelSum::own`]) (or counts the
+    /// sample as dropped if `w·l` or `w` is not finite).
     ///
     /// ```
     /// use glam::Vec3;
@@ -121,29 +152,47 @@ impl PixelSum {
     /// ```
     #[inline]
     pub fn add_weighted(&mut self, l: Vec3, w: f32) {
+        if w == 1.0 {
+            // `w·l` is `l`: the own sums move with the sums.
+            return self.add_sample(l);
+        }
         let v = l * w;
         if !(v.is_finite() && w.is_finite()) {
             self.dropped = self.dropped.saturating_add(1);
             return;
         }
-        let fv = v.to_array().map(to_fixed);
-        // With a weight of 1 (the box), `w·l` is `l`: no second rounding.
-        let fl = if w == 1.0 {
-            fv
-        } else {
-            l.to_array().map(to_fixed)
-        };
         for ((s, o), (x, y)) in self
             .sum
             .iter_mut()
-            .zip(&mut self.own)
-            .zip(fv.into_iter().zip(fl))
+            .zip(&mut self.own_minus_sum)
+            .zip(v.to_array().into_iter().zip(l.to_array()))
         {
-            *s = s.saturating_add(x);
-            *o = o.saturating_add(y);
+            let before = *s;
+            *s = s.saturating_add(to_fixed(x));
+            // As saturated: own − sum stays exact.
+            *o = o
+                .wrapping_add(to_fixed(y))
+                .wrapping_sub(s.wrapping_sub(before));
         }
         self.weight = self.weight.saturating_add(to_fixed(w));
         self.samples = self.samples.saturating_add(1);
+    }
+
+    /// The sum of the pixel's own kept samples' RGB, unweighted, in units
+    /// of `2⁻²⁴`: `sum + own_minus_sum`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::PixelSum;
+    /// let mut a = PixelSum::ZERO;
+    /// a.add_weighted(Vec3::splat(0.5), 1.5);
+    /// a.add_weighted(Vec3::splat(0.25), -0.5);
+    /// assert_eq!(a.own(), [(0.75 * 16_777_216.0) as i64; 3]);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn own(&self) -> [i64; 3] {
+        core::array::from_fn(|c| self.sum[c].wrapping_add(self.own_minus_sum[c]))
     }
 
     /// Adds another accumulator of the same pixel: exact, commutative and
@@ -167,8 +216,8 @@ impl PixelSum {
             *s = s.saturating_add(o);
         }
         self.weight = self.weight.saturating_add(other.weight);
-        for (o, x) in self.own.iter_mut().zip(other.own) {
-            *o = o.saturating_add(x);
+        for (o, x) in self.own_minus_sum.iter_mut().zip(other.own_minus_sum) {
+            *o = o.wrapping_add(x);
         }
         self.samples = self.samples.saturating_add(other.samples);
         self.dropped = self.dropped.saturating_add(other.dropped);
@@ -189,7 +238,7 @@ impl PixelSum {
     #[inline]
     fn ratio(&self) -> ([i64; 3], f64) {
         if self.falls_back() {
-            (self.own, FILM_SCALE as f64 * self.samples as f64)
+            (self.own(), FILM_SCALE as f64 * self.samples as f64)
         } else {
             (self.sum, self.weight as f64)
         }
@@ -262,8 +311,7 @@ impl PixelSum {
             out.sum[ch] = libm::round(m * weight) as i64;
         }
         out.weight = weight as i64;
-        // Its weights are 1, so its own sums are its sums.
-        out.own = out.sum;
+        // Its weights are 1: its own sums are its sums.
         out
     }
 

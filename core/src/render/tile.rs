@@ -255,20 +255,39 @@ pub fn render_tile<S: Sampler + Clone>(
     film: &mut [PixelSum],
 ) -> Result<TileStats, RenderError> {
     check_tile(camera, settings, tile, film.len())?;
+    // The box's weights are 1: its instance adds with the plain add, which
+    // leaves the own sums alone (they move with the sums).
+    Ok(if settings.filter == crate::filter::PixelFilter::BOX {
+        render_tile_adding::<S, true>(scene, camera, sampler, settings, tile, samples, film)
+    } else {
+        render_tile_adding::<S, false>(scene, camera, sampler, settings, tile, samples, film)
+    })
+}
+
+/// [`render_tile`] after its checks; `UNIT`: every weight is 1.
+#[inline]
+fn render_tile_adding<S: Sampler + Clone, const UNIT: bool>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+    samples: Range<u32>,
+    film: &mut [PixelSum],
+) -> TileStats {
     const ALL: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-    Ok(for_each_group(
-        scene,
-        camera,
-        sampler,
-        settings,
-        tile,
-        |group, at, n| {
-            let film = &mut film[at..at + n];
-            for index in samples.clone() {
-                group.trace(&ALL[..n], index, |l, v, w, _, _| film[l].add_weighted(v, w));
-            }
-        },
-    ))
+    for_each_group(scene, camera, sampler, settings, tile, |group, at, n| {
+        let film = &mut film[at..at + n];
+        for index in samples.clone() {
+            group.trace(&ALL[..n], index, |l, v, w, _, _| {
+                if UNIT {
+                    film[l].add_unit(v, w);
+                } else {
+                    film[l].add_weighted(v, w);
+                }
+            });
+        }
+    })
 }
 
 /// Calls `f` with each group of up to 8 neighbouring pixels of `tile`,
@@ -530,9 +549,24 @@ impl Splat {
 
     /// Adds the splat to target `(dx, dy)`'s accumulator, counting it as
     /// one of that pixel's samples (and its radiance in the pixel's own
-    /// sum) if `own`.
+    /// sum, [`PixelSum::own`]) if `own`.
     #[inline]
     pub fn add_to(&self, pixel: &mut PixelSum, dx: usize, dy: usize, own: bool) {
+        let before = pixel.sum;
+        self.add_sums(pixel, dx, dy);
+        // The own sum does not move with the sums: own − sum moves
+        // against them (as saturated).
+        for ((o, s), b) in pixel.own_minus_sum.iter_mut().zip(pixel.sum).zip(before) {
+            *o = o.wrapping_sub(s.wrapping_sub(b));
+        }
+        if own {
+            self.add_own(pixel);
+        }
+    }
+
+    /// `f·L` and `f` to target `(dx, dy)`'s sums, leaving `own_minus_sum`.
+    #[inline]
+    fn add_sums(&self, pixel: &mut PixelSum, dx: usize, dy: usize) {
         let f = self.weight(dx, dy);
         if f != 0 {
             for (s, l) in pixel.sum.iter_mut().zip(self.l) {
@@ -545,24 +579,23 @@ impl Splat {
             }
             pixel.weight = pixel.weight.saturating_add(f);
         }
-        if own {
-            self.add_own(pixel);
-        }
     }
 
     /// Counts the splat as one of `pixel`'s own samples: its radiance to
-    /// the own sum, and the sample count.
+    /// the own sum (here `own_minus_sum`, whose sum part the caller keeps
+    /// right), and the sample count.
     #[inline]
     pub(crate) fn add_own(&self, pixel: &mut PixelSum) {
-        for (o, l) in pixel.own.iter_mut().zip(self.own) {
-            *o = o.saturating_add(l);
+        for (o, l) in pixel.own_minus_sum.iter_mut().zip(self.own) {
+            *o = o.wrapping_add(l);
         }
         pixel.samples = pixel.samples.saturating_add(1);
     }
 
     /// Adds the splat to its `side × side` targets, target `(dx, dy)` at
     /// `film[first + dy·stride + dx]` (none counted as a sample):
-    /// [`Splat::add_to`] on each. Where the values are small enough for
+    /// [`Splat::add_to`] on each, but for `own_minus_sum`, which it leaves
+    /// (the caller takes the sums' change off it once, after all splats). Where the values are small enough for
     /// no product to overflow (`|Fx·L| ≤ 2⁴⁸`, `|Fx·Fy·L| ≤ 2⁶²`) the
     /// products `Fx·L` are formed once per column and the weight rides
     /// along as a fourth channel of radiance `2¹⁸` (`(Fx·Fy·2¹⁸ + 2¹⁷) >>
@@ -582,7 +615,7 @@ impl Splat {
             for dy in 0..side {
                 let row = first + dy * stride;
                 for (dx, p) in film[row..row + side].iter_mut().enumerate() {
-                    self.add_to(p, dx, dy, false);
+                    self.add_sums(p, dx, dy);
                 }
             }
             return;
@@ -740,42 +773,49 @@ pub fn render_tile_splat<S: Sampler + Clone>(
         .flat_map(|p| p.sum.iter().chain([&p.weight]))
         .fold(0u64, |m, v| m.max(v.unsigned_abs()));
     let mut headroom = (1i64 << 62) - largest.min(1 << 62) as i64;
-    Ok(for_each_group(
-        scene,
-        camera,
-        sampler,
-        &boxed,
-        tile,
-        |group, at, n| {
-            // The group's first pixel's top-left splat target in the
-            // padded film (its own pixel is m further right and down).
-            let (gx, gy) = (at % width, at / width);
-            for index in samples.clone() {
-                group.trace(&ALL[..n], index, |l, v, _, _, u| {
-                    let own = (gy + m) * pw + gx + l + m;
-                    let Some(splat) = Splat::new(&filter, u, v) else {
-                        // Counted as dropped by its own pixel only.
-                        film[own].dropped = film[own].dropped.saturating_add(1);
-                        return;
-                    };
-                    let first = gy * pw + gx + l;
-                    match splat.reach() {
-                        Some(r) if r <= headroom => {
-                            headroom -= r;
-                            splat.add_square::<false>(film, first, pw, side);
-                        }
-                        _ => {
-                            // Uncharged, this splat may bring a sum near
-                            // i64's end: every later one saturates too.
-                            headroom = 0;
-                            splat.add_square::<true>(film, first, pw, side);
-                        }
+    // `own_minus_sum` is own − sum, but the splats below move the sums
+    // without it: it holds own − sum + sum = own while they run (wrapping
+    // adds, exact), and the final sums come off after.
+    for p in film.iter_mut() {
+        for (o, s) in p.own_minus_sum.iter_mut().zip(p.sum) {
+            *o = o.wrapping_add(s);
+        }
+    }
+    let stats = for_each_group(scene, camera, sampler, &boxed, tile, |group, at, n| {
+        // The group's first pixel's top-left splat target in the
+        // padded film (its own pixel is m further right and down).
+        let (gx, gy) = (at % width, at / width);
+        for index in samples.clone() {
+            group.trace(&ALL[..n], index, |l, v, _, _, u| {
+                let own = (gy + m) * pw + gx + l + m;
+                let Some(splat) = Splat::new(&filter, u, v) else {
+                    // Counted as dropped by its own pixel only.
+                    film[own].dropped = film[own].dropped.saturating_add(1);
+                    return;
+                };
+                let first = gy * pw + gx + l;
+                match splat.reach() {
+                    Some(r) if r <= headroom => {
+                        headroom -= r;
+                        splat.add_square::<false>(film, first, pw, side);
                     }
-                    splat.add_own(&mut film[own]);
-                });
-            }
-        },
-    ))
+                    _ => {
+                        // Uncharged, this splat may bring a sum near
+                        // i64's end: every later one saturates too.
+                        headroom = 0;
+                        splat.add_square::<true>(film, first, pw, side);
+                    }
+                }
+                splat.add_own(&mut film[own]);
+            });
+        }
+    });
+    for p in film.iter_mut() {
+        for (o, s) in p.own_minus_sum.iter_mut().zip(p.sum) {
+            *o = o.wrapping_sub(s);
+        }
+    }
+    Ok(stats)
 }
 
 #[cfg(test)]
@@ -828,8 +868,20 @@ mod tests {
             ..PixelSum::ZERO
         });
         let (mut plain, mut saturating, mut one_by_one) = (start, start, start);
+        // add_square leaves own − sum to its caller, which takes the sums'
+        // change off it once.
+        let settle = |after: &mut [PixelSum; 49], before: &[PixelSum; 49]| {
+            for (a, b) in after.iter_mut().zip(before) {
+                for c in 0..3 {
+                    let moved = a.sum[c].wrapping_sub(b.sum[c]);
+                    a.own_minus_sum[c] = a.own_minus_sum[c].wrapping_sub(moved);
+                }
+            }
+        };
         splat.add_square::<false>(&mut plain, 0, side, side);
         splat.add_square::<true>(&mut saturating, 0, side, side);
+        settle(&mut plain, &start);
+        settle(&mut saturating, &start);
         for dy in 0..side {
             for dx in 0..side {
                 splat.add_to(&mut one_by_one[dy * side + dx], dx, dy, false);
@@ -856,6 +908,7 @@ mod tests {
         }; 49];
         let mut saturated = full;
         splat.add_square::<true>(&mut saturated, 0, side, side);
+        settle(&mut saturated, &full);
         let mut want = full;
         for dy in 0..side {
             for dx in 0..side {

@@ -30,7 +30,7 @@ impl Film {
             }
             body.extend_from_slice(&p.samples.to_le_bytes());
             body.extend_from_slice(&p.dropped.to_le_bytes());
-            for s in p.own {
+            for s in p.own_minus_sum {
                 body.extend_from_slice(&s.to_le_bytes());
             }
         }
@@ -176,7 +176,7 @@ impl Film {
                 PixelSum {
                     sum: [i(0), i(1), i(2)],
                     weight: i(3),
-                    own: [i(5), i(6), i(7)],
+                    own_minus_sum: [i(5), i(6), i(7)],
                     samples: u(32),
                     dropped: u(36),
                 }

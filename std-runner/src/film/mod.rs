@@ -36,7 +36,8 @@
 //! body: one record per extent pixel, row-major, 64 bytes each,
 //!       little-endian: weighted sums r, g, b and the filter-weight sum as
 //!       i64 (units of 2^-24), samples u32, dropped u32, then the own
-//!       samples' unweighted sums r, g, b as i64 (units of 2^-24).
+//!       samples' unweighted sums r, g, b minus the weighted ones as i64
+//!       (units of 2^-24, wrapping; 0 with weights of 1).
 //! ```
 //!
 //! An adaptive render (`adaptive=threshold=T min=N max=M`, with `spp` =

@@ -32,7 +32,7 @@ fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
             .map(|i| PixelSum {
                 sum: [i as i64, -(i as i64), 1 << 40],
                 weight: (n as i64 - 1) << 24,
-                own: [2 * i as i64, 5, -(1 << 41)],
+                own_minus_sum: [2 * i as i64, 5, -(1 << 41)],
                 samples: n - 1,
                 dropped: 1,
             })
@@ -201,7 +201,7 @@ fn with_border(mut f: Film, r: f32) -> Film {
             PixelSum {
                 sum: [x as i64, y as i64, 3],
                 weight: 1 << 20,
-                own: if own { [y as i64, 7, x as i64] } else { [0; 3] },
+                own_minus_sum: if own { [y as i64, 7, x as i64] } else { [0; 3] },
                 samples: if own { n } else { 0 },
                 dropped: 0,
             }
