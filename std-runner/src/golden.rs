@@ -230,7 +230,7 @@ pub fn scene(name: &str) -> Result<SceneData> {
 /// sample count and dropped count, little-endian, row-major; then its
 /// weight sum (halves likewise) if that is not `2²⁴ × samples`, the value
 /// weights of 1 give (so films of box and tent hash as before weights
-/// were kept).
+/// were kept); then its `own_minus_sum` if that is not 0 (likewise).
 #[must_use]
 pub fn film_hash(pixels: &[PixelSum]) -> u64 {
     let mut h = Fnv::default();

@@ -9,8 +9,9 @@
 /// up to it too.
 pub const MAX_WIDTH: u32 = 16_384;
 
-/// The largest image, in pixels: 2²⁵ (e.g. 8192 × 4096), whose films and
-/// output buffers need about 2.5 GiB at the peak.
+/// The largest image, in pixels: 2²⁵ (e.g. 8192 × 4096), whose films (64
+/// bytes a pixel: 2 GiB a copy) and output buffers need about 4 GiB at
+/// the peak.
 pub const MAX_PIXELS: u64 = 1 << 25;
 
 /// The most samples per pixel.

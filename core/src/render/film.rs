@@ -11,7 +11,8 @@
 //! below what an 8-bit or half-float image resolves) and clamped at
 //! `2^16 = 65536`; a pixel holds up to `2²³` samples of that maximum, and
 //! far more of ordinary radiance, before its sum saturates (it saturates
-//! rather than wrapping). A sample with a NaN or infinite channel is
+//! rather than wrapping; the own sums' difference from it, below, wraps
+//! and stays exact). A sample with a NaN or infinite channel is
 //! counted in `dropped` and not summed; the mean is over the samples kept.
 //!
 //! Each sample also adds its pixel-filter weight `w = f/pdf` to `weight`,
@@ -75,7 +76,8 @@ pub struct PixelSum {
     /// the box mean's numerator the value falls back to where the weights
     /// nearly cancel ([`PixelSum::mean`]). Kept as a difference so that
     /// with weights of 1 (the box filter, a [`PixelSum::blend`]) it stays
-    /// 0 and costs nothing.
+    /// 0 and costs nothing (past saturation the own sums then saturate
+    /// with the sums; such a pixel never falls back to them).
     pub own_minus_sum: [i64; 3],
     /// Samples summed.
     pub samples: u32,
@@ -128,6 +130,8 @@ impl PixelSum {
             self.dropped = self.dropped.saturating_add(1);
             return;
         }
+        // The own sums move with the sums, past saturation too: a pixel of
+        // weights 1 never falls back to them.
         for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
             *s = s.saturating_add(to_fixed(x));
         }
@@ -212,13 +216,16 @@ impl PixelSum {
     /// ```
     #[inline]
     pub fn merge(&mut self, other: &PixelSum) {
-        for (s, o) in self.sum.iter_mut().zip(other.sum) {
-            *s = s.saturating_add(o);
+        for c in 0..3 {
+            let before = self.sum[c];
+            self.sum[c] = before.saturating_add(other.sum[c]);
+            // own − sum of the two, less what saturation kept off the sum.
+            let lost = other.sum[c].wrapping_sub(self.sum[c].wrapping_sub(before));
+            self.own_minus_sum[c] = self.own_minus_sum[c]
+                .wrapping_add(other.own_minus_sum[c])
+                .wrapping_add(lost);
         }
         self.weight = self.weight.saturating_add(other.weight);
-        for (o, x) in self.own_minus_sum.iter_mut().zip(other.own_minus_sum) {
-            *o = o.wrapping_add(x);
-        }
         self.samples = self.samples.saturating_add(other.samples);
         self.dropped = self.dropped.saturating_add(other.dropped);
     }
@@ -330,18 +337,22 @@ impl PixelSum {
     /// `Σ w` that chose it: splatted Lanczos at 1 spp was 4 % dark. With
     /// the box mean below a quarter, 2 % of `week09`'s pixels were still
     /// beyond 3 standard errors of the filter's true output; below a
-    /// half, none beyond chance: `tests/rendering/filter_bias.rs`.) Box,
-    /// tent, Gaussian and Blackman–Harris weights are positive and never
-    /// fall back.
+    /// half, none beyond chance: `tests/rendering/filter_bias.rs`.) Box
+    /// and tent weights are 1 and never fall back; Gaussian and
+    /// Blackman–Harris weights are positive but small near the edge of
+    /// their support, so a pixel of one or two samples there can.
     ///
     /// ```
     /// use glam::Vec3;
     /// use strata::render::PixelSum;
     /// let mut a = PixelSum::ZERO;
     /// a.add_weighted(Vec3::ONE, 1.0);
-    /// a.add_weighted(Vec3::ZERO, -0.9); // Σ w = 0.1 < 2/2: the box mean
+    /// a.add_weighted(Vec3::ZERO, -0.4); // Σ w = 0.6 < 2/2: the box mean
     /// assert!(a.falls_back());
     /// assert!((a.mean() - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+    /// a.add_weighted(Vec3::ONE, 1.0); // Σ w = 1.6 ≥ 3/2: the ratio
+    /// assert!(!a.falls_back());
+    /// assert!((a.mean() - Vec3::splat(2.0 / 1.6)).abs().max_element() < 1e-6);
     /// ```
     #[inline]
     #[must_use]
@@ -414,6 +425,38 @@ mod tests {
         assert_eq!(to_fixed(-1e30), -to_fixed(MAX_SAMPLE_VALUE));
         // Half a film unit rounds away from zero.
         assert_eq!(to_fixed(0.5 / FILM_SCALE), 1);
+    }
+
+    #[test]
+    fn own_sums_stay_exact_where_sums_saturate() {
+        // own − sum wraps while the sum saturates: the own sum is still
+        // the own samples' sum (mod 2⁶⁴).
+        let near = i64::MAX - 10;
+        let a = PixelSum {
+            sum: [near; 3],
+            own_minus_sum: [5i64.wrapping_sub(near); 3],
+            samples: 1,
+            ..PixelSum::ZERO
+        };
+        let b = PixelSum {
+            sum: [100; 3],
+            own_minus_sum: [1 - 100; 3],
+            samples: 1,
+            ..PixelSum::ZERO
+        };
+        let mut m = a;
+        m.merge(&b);
+        assert_eq!((m.sum, m.own()), ([i64::MAX; 3], [6; 3]));
+        // A unit-weight add saturates the own sums with the sums (such a
+        // pixel never falls back to them).
+        let mut u = a;
+        u.add_sample(Vec3::ONE);
+        assert_eq!(u.sum, [i64::MAX; 3]);
+        assert_eq!(u.own_minus_sum, a.own_minus_sum);
+        // A weighted one keeps them exact.
+        let mut w = a;
+        w.add_weighted(Vec3::ONE, 2.0);
+        assert_eq!(w.own(), [5 + (1 << 24); 3]);
     }
 
     #[test]
