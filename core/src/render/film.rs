@@ -62,10 +62,7 @@ pub(crate) fn to_fixed(x: f32) -> i64 {
 /// One pixel's exact accumulator: fixed-point sums of the weighted RGB,
 /// of the filter weights and of its own samples' unweighted RGB, and
 /// sample counts. 64 bytes; `Copy`, `Send`, `Sync`.
-// `repr(C)`: `sum` and `weight` side by side, so one sample's four adds
-// are one vector operation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[repr(C)]
 pub struct PixelSum {
     /// Sum of the kept samples' weighted RGB `w·L` in units of `2⁻²⁴`.
     pub sum: [i64; 3],
