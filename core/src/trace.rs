@@ -90,7 +90,7 @@
 use glam::Vec3;
 
 mod bvh;
-mod lanes;
+pub(crate) mod lanes;
 mod packet;
 
 pub use bvh::{

@@ -53,6 +53,10 @@ pub enum Command {
     /// RMSE and relMSE against a cached reference, cost as rays and as
     /// CPU seconds, and the adaptive image's bias.
     Adaptive(AdaptiveArgs),
+    /// Measure every pixel filter against the box at equal time: RMSE
+    /// against each filter's own cached reference, negative pixels (noise
+    /// or ringing), fallbacks, mean luminance and CPU seconds.
+    Filters(FiltersArgs),
     /// Render one scene with several samplers at the same spp, side by
     /// side in one labelled PNG (default: the `horizon` checker plane).
     Aliasing(AliasingArgs),
@@ -150,7 +154,7 @@ pub struct ConvergeArgs {
 
 /// [`strata::render::Adaptive::DEFAULT_THRESHOLD`] as `--adaptive`
 /// shows it (a test checks they agree).
-pub const DEFAULT_THRESHOLD_TEXT: &str = "0.001";
+pub const DEFAULT_THRESHOLD_TEXT: &str = "0.0004";
 
 /// `strata adaptive` flags.
 #[derive(Debug, Args)]
@@ -180,11 +184,56 @@ pub struct AdaptiveArgs {
     pub min_spp: u32,
     /// The most samples a pixel takes (rounded down to whole blocks of
     /// --min-spp/4).
-    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
+    #[arg(long, default_value_t = strata::render::Adaptive::DEFAULT_MAX, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub max_spp: u32,
     /// Seeds per row (adaptive and each uniform spp).
     #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
     pub seeds: u32,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
+    pub threads: u16,
+    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
+    /// ~/.cache/strata].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Also write the rows as CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+/// `strata filters` flags.
+#[derive(Debug, Args)]
+pub struct FiltersArgs {
+    /// A built-in scene or a TOML scene file.
+    #[arg(long, default_value = "week09")]
+    pub scene: String,
+    /// Image width in pixels, height by the scene's aspect.
+    #[arg(long, default_value_t = 320, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
+    pub width: u32,
+    /// Ray segments per path [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    pub max_depth: Option<u32>,
+    /// Pixel sampler of every render.
+    #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
+    pub sampler: SamplerKind,
+    /// The filters measured, comma-separated, each at its usual radius
+    /// (the box is always measured: every ratio is to it) [default: all].
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub filters: Vec<FilterName>,
+    /// The spp measured, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,4,16", value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
+    pub spps: Vec<u32>,
+    /// Samples per pixel of each filter's reference (Sobol'), at least 16
+    /// times the largest measured spp.
+    #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
+    pub reference_spp: u32,
+    /// Seeds per row.
+    #[arg(long, default_value_t = 4, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
+    pub seeds: u32,
+    /// Times every render is timed (the first also measures its error);
+    /// each filter's time against the box's is the median over them.
+    #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
+    pub rounds: u32,
     /// Worker threads.
     #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
     pub threads: u16,
@@ -365,7 +414,7 @@ pub struct RenderArgs {
     /// --min-spp/2 samples in two halves, then a rest of at least
     /// --min-spp/2 as long as the pilot asks, up to --max-spp, and stays
     /// unbiased; a smaller THRESHOLD asks for more samples where
-    /// the pilot is noisy (see the README; default 0.001).
+    /// the pilot is noisy (see the README; default 0.0004).
     #[arg(
         long,
         value_name = "THRESHOLD",
@@ -381,7 +430,7 @@ pub struct RenderArgs {
     pub min_spp: u32,
     /// The most samples a pixel takes with --adaptive (rounded down to
     /// whole blocks of --min-spp/4).
-    #[arg(long, requires = "adaptive", default_value_t = 1024, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
+    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MAX, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub max_spp: u32,
     /// With --adaptive, also write a heat map of the samples each pixel
     /// took as a PNG (viridis, log scale: dark = --min-spp, yellow =

@@ -19,6 +19,7 @@ use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 
 pub mod adaptive;
+pub mod filters;
 
 /// Rec. 709 luminance in `f64`, as the studies and spectra measure it.
 #[must_use]
@@ -85,6 +86,9 @@ pub struct View<'a> {
     pub threads: usize,
     /// Texture filtering (references are always point-sampled).
     pub texture_filter: strata::render::TextureFilter,
+    /// The pixel filter of the view's renders and of its reference (the
+    /// box everywhere but `strata filters`).
+    pub filter: strata::render::PixelFilter,
 }
 
 impl View<'_> {
@@ -98,6 +102,7 @@ impl View<'_> {
             seed,
             threads: self.threads,
             texture_filter: self.texture_filter,
+            filter: self.filter,
             ..Job::new(self.scene, self.width, self.height, spp)
         };
         Ok(run(&job, &|_| {})?
@@ -111,9 +116,14 @@ impl View<'_> {
     /// the same key render the same reference.
     fn reference_key(&self, spp: u32) -> String {
         let w = self.window;
+        // The box's key is the one every earlier cache file was made with.
+        let filter = match self.filter == strata::render::PixelFilter::BOX {
+            true => String::new(),
+            false => format!(" filter {}", crate::film::filter_text(&self.filter)),
+        };
         format!(
             "strata {} output revision {} scene {:016x} size {}x{} window {},{} {}x{} depth {} \
-             direct lighting on, reference sobol {} spp seed {}",
+             direct lighting on, reference sobol {} spp seed {}{}",
             env!("CARGO_PKG_VERSION"),
             strata::render::OUTPUT_REVISION,
             self.scene.content_hash(),
@@ -125,7 +135,8 @@ impl View<'_> {
             w.height,
             self.max_depth,
             spp,
-            REFERENCE_SEED
+            REFERENCE_SEED,
+            filter
         )
     }
 }

@@ -1243,13 +1243,18 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
         ],
     );
     let want = format!(
-        "adaptive {}..1024 spp at {} (mean",
+        "adaptive {}..{} spp at {} (mean",
         strata::render::Adaptive::DEFAULT_MIN,
+        strata::render::Adaptive::DEFAULT_MAX,
         strata::render::Adaptive::DEFAULT_THRESHOLD
     );
     assert!(said.contains(&want), "{said}");
     let e = refused(d, &["merge", "a.film", "u.film", "-o", "x.png"]);
     assert!(e.contains("adaptive is `off`"), "{e}");
+    let below = format!(
+        "--max-spp 32 is below --min-spp 64 (default {})",
+        strata::render::Adaptive::DEFAULT_MIN
+    );
     for (args, want) in [
         (
             vec![
@@ -1275,7 +1280,7 @@ fn adaptive_renders_split_merge_and_write_an_spp_map() {
         (vec!["render", "--adaptive", "--min-spp", "4"], "not in 8.."),
         (
             vec!["render", "--adaptive", "--min-spp", "64", "--max-spp", "32"],
-            "--max-spp 32 is below --min-spp 64 (default 128)",
+            below.as_str(),
         ),
         (vec!["render", "--spp-map", "m.png"], "--adaptive"),
         (
@@ -1671,4 +1676,89 @@ fn adaptive_study_checks_its_flags_then_measures() {
     for r in &rows[1..] {
         assert_eq!(format!("uniform{}", r[1]), r[0]);
     }
+}
+
+#[test]
+fn filter_study_checks_its_flags_then_measures_every_filter_against_the_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, want) in [
+        (
+            vec!["filters", "--csv", "x.txt"],
+            "--csv `x.txt` must end in .csv",
+        ),
+        (
+            vec!["filters", "--spps", "4,16", "--reference-spp", "128"],
+            "--reference-spp 128 must be at least 16 times the largest of --spps (16)",
+        ),
+        (vec!["filters", "--spps", "0"], "not in 1.."),
+        (vec!["filters", "--filters", "sinc"], "invalid value 'sinc'"),
+        (vec!["filters", "--seeds", "0"], "not in 1.."),
+        (vec!["filters", "--rounds", "0"], "not in 1.."),
+    ] {
+        let e = refused(d, &args);
+        assert!(e.contains(want), "{args:?}: {e}");
+    }
+    let said = ok(
+        d,
+        &[
+            "filters",
+            "--width",
+            "24",
+            "--spps",
+            "1,4",
+            "--seeds",
+            "2",
+            "--rounds",
+            "2",
+            "--reference-spp",
+            "64",
+            "--filters",
+            "lanczos,tent",
+            "--cache-dir",
+            "cache",
+            "--csv",
+            "f.csv",
+        ],
+    );
+    assert!(
+        said.contains("each filter against its own reference: sobol 64 spp"),
+        "{said}"
+    );
+    let csv = std::fs::read_to_string(d.join("f.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "filter,spp,rmse,negative_noise,negative_near,negative_ringing,fallbacks,pixels,\
+             mean_luminance,wall_seconds,time_vs_box,rmse_at_equal_time_vs_box"
+        )
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // The box first at each spp (always measured), then the filters asked for.
+    let names: Vec<(&str, &str)> = rows.iter().map(|r| (r[0], r[1])).collect();
+    assert_eq!(
+        names,
+        [
+            ("box r=0.5", "1"),
+            ("lanczos r=3.0 tau=3.0", "1"),
+            ("tent r=1.0", "1"),
+            ("box r=0.5", "4"),
+            ("lanczos r=3.0 tau=3.0", "4"),
+            ("tent r=1.0", "4"),
+        ]
+    );
+    for r in &rows {
+        // 24x13 pixels, 2 seeds; errors and luminances are measured.
+        assert_eq!(r[7], "624", "{r:?}");
+        let rmse: f64 = r[2].parse().unwrap();
+        assert!(rmse > 0.0 && rmse < 1.0, "{r:?}");
+        assert!(r[8].parse::<f64>().unwrap() > 0.0, "{r:?}");
+    }
+    // The box's ratios to itself are 1.
+    for r in rows.iter().filter(|r| r[0].starts_with("box")) {
+        assert_eq!((r[10], r[11]), ("1", "1"), "{r:?}");
+    }
+    // Each reference was cached under the filter it was made with.
+    assert_eq!(std::fs::read_dir(d.join("cache")).unwrap().count(), 3);
 }

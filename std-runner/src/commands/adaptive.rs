@@ -42,6 +42,7 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
         max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
         threads: args.threads as usize,
         texture_filter: TextureFilter::None,
+        filter: strata::render::PixelFilter::BOX,
     };
     say(&format!(
         "{}: {}x{} window at ({}, {}) of {}x{}, depth {}, {}; {}",

@@ -36,6 +36,7 @@ pub fn aliasing(args: &AliasingArgs) -> Result<()> {
         max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
         threads: args.threads as usize,
         texture_filter: args.texture_filter.filter(),
+        filter: strata::render::PixelFilter::BOX,
     };
     let mut panels = sampler_panels(args, &view)?;
     if args.reference_spp > 0 {

@@ -210,6 +210,7 @@ impl ConvergeArgs {
                 max_depth: self.max_depth.unwrap_or(scene.defaults.max_depth),
                 threads: self.threads as usize,
                 texture_filter: TextureFilter::None,
+                filter: strata::render::PixelFilter::BOX,
             },
             spps,
             samplers: samplers_or_all(&self.samplers),

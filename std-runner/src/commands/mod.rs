@@ -8,6 +8,7 @@ pub mod adaptive;
 pub mod aliasing;
 pub mod bench;
 pub mod converge;
+pub mod filters;
 pub mod merge;
 pub mod output;
 pub mod render;
@@ -39,6 +40,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Converge(args)) => converge::converge(&args),
         Some(Command::Adaptive(args)) => adaptive::adaptive(&args),
+        Some(Command::Filters(args)) => filters::filters(&args),
         Some(Command::Aliasing(args)) => aliasing::aliasing(&args),
         Some(Command::Spectrum(args)) => spectrum::spectrum(&args),
         Some(Command::Merge(args)) => merge::merge(&args),

@@ -5,7 +5,12 @@
 //! the reference (Sobol' at 64 times that, rounded up to a power of two)
 //! and the uniform ladder (powers of two, widened until it brackets the
 //! adaptive cost). Cost is counted two ways, rays traced (closest-hit and
-//! shadow) and CPU seconds of the process; the uniform RMSE and relMSE
+//! shadow) and CPU seconds of the process. The CPU seconds come from a
+//! second pass that renders the adaptive view and every ladder rung in
+//! turn, seed by seed (A, U₁, U₂, …, A, U₁, …), so a change in the
+//! machine's load falls on all of them alike; the first pass runs each
+//! row's seeds back to back and only chooses the ladder. The uniform RMSE
+//! and relMSE
 //! are interpolated log–log between the two ladder points around the
 //! adaptive run's cost. Bias is the adaptive image's mean luminance
 //! against the reference's, with its standard error over seeds (which
@@ -279,7 +284,7 @@ pub fn study(
         "adaptive: {mean_spp:.2} samples per pixel on average; reference: sobol {reference_spp} spp"
     ));
     let (reference, _) = super::reference(view, reference_spp, cache_dir)?;
-    let adaptive_row = row(None, &adaptive_runs, &reference);
+    let mut adaptive_row = row(None, &adaptive_runs, &reference);
     let mean_luma = |imgs: &[&[Vec3]]| -> Vec<f64> {
         imgs.iter()
             .map(|i| i.iter().map(|&v| luminance(v)).sum::<f64>() / px)
@@ -337,6 +342,20 @@ pub fn study(
         } else {
             break;
         };
+    }
+    // The CPU seconds, interleaved (see the module docs); the images are
+    // those of the first pass (the same bits).
+    say("CPU seconds: the adaptive render and the ladder again, interleaved seed by seed");
+    let mut cpu = vec![0.0; uniform.len() + 1];
+    for s in 0..seeds {
+        cpu[0] += render_once(view, sampler, s as u64, Some(adaptive), 0)?.cpu;
+        for (c, r) in cpu[1..].iter_mut().zip(&uniform) {
+            *c += render_once(view, sampler, s as u64, None, r.uniform_spp.unwrap_or(1))?.cpu;
+        }
+    }
+    adaptive_row.cpu = cpu[0] / seeds as f64;
+    for (r, c) in uniform.iter_mut().zip(&cpu[1..]) {
+        r.cpu = c / seeds as f64;
     }
     Ok(Report {
         adaptive: adaptive_row,

@@ -1,0 +1,86 @@
+//! `strata filters`: every pixel filter against the box at equal time
+//! (see [`crate::study::filters`]).
+
+use anyhow::{Result, bail};
+use clap::ValueEnum;
+use strata::render::{TextureFilter, Tile};
+
+use crate::cli::{FilterName, FiltersArgs};
+use crate::commands::output::write_text;
+use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene};
+use crate::image_io::say;
+use crate::study::{self, View};
+
+/// How many times the largest measured spp the references must take, so
+/// that their own error stays a small part of the RMSE measured.
+const REFERENCE_FACTOR: u32 = 16;
+
+/// Runs `strata filters`: every flag checked, then the study, its table
+/// and, if asked for, its CSV.
+pub fn filters(args: &FiltersArgs) -> Result<()> {
+    let scene = resolve_scene(&args.scene)?;
+    let height = height_for(&scene, args.width, None)?;
+    check_pixels(args.width, height, 1)?;
+    let largest = args.spps.iter().copied().max().unwrap_or(1);
+    if args.reference_spp / REFERENCE_FACTOR < largest {
+        bail!(
+            "--reference-spp {} must be at least {REFERENCE_FACTOR} times the largest of --spps \
+             ({largest})",
+            args.reference_spp
+        );
+    }
+    if let Some(csv) = &args.csv {
+        check_output_ext(csv, "csv", "--csv")?;
+    }
+    let names: Vec<FilterName> = match args.filters.is_empty() {
+        true => FilterName::value_variants().to_vec(),
+        false => args.filters.clone(),
+    };
+    let filters = names
+        .iter()
+        .map(|n| n.filter(None))
+        .collect::<Result<Vec<_>>>()?;
+    let view = View {
+        scene: &scene,
+        width: args.width,
+        height,
+        window: Tile::whole(args.width, height),
+        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: args.threads as usize,
+        texture_filter: TextureFilter::None,
+        filter: strata::render::PixelFilter::BOX,
+    };
+    say(&format!(
+        "{}: {}x{}, depth {}, {}, spp {:?}, {} seed(s), timed {} time(s)",
+        scene.name,
+        args.width,
+        height,
+        view.max_depth,
+        args.sampler.name(),
+        args.spps,
+        args.seeds,
+        args.rounds
+    ));
+    let cache_dir = args
+        .cache_dir
+        .clone()
+        .unwrap_or_else(study::default_cache_dir);
+    let report = study::filters::study(
+        &view,
+        args.sampler,
+        &filters,
+        &study::filters::Settings {
+            spps: args.spps.clone(),
+            seeds: args.seeds,
+            rounds: args.rounds,
+            reference_spp: args.reference_spp,
+        },
+        &cache_dir,
+        &say,
+    )?;
+    if let Some(csv) = &args.csv {
+        write_text(csv, &report.csv())?;
+    }
+    say(&report.table());
+    Ok(())
+}
