@@ -54,8 +54,8 @@ pub enum Command {
     /// CPU seconds, and the adaptive image's bias.
     Adaptive(AdaptiveArgs),
     /// Measure every pixel filter against the box at equal time: RMSE
-    /// against each filter's own cached reference, negative pixels (noise
-    /// or ringing), fallbacks, mean luminance and CPU seconds.
+    /// against each filter's own cached reference, negative pixels (noise,
+    /// near 0 or ringing), fallbacks, mean luminance and wall time.
     Filters(FiltersArgs),
     /// Render one scene with several samplers at the same spp, side by
     /// side in one labelled PNG (default: the `horizon` checker plane).

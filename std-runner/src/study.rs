@@ -1,7 +1,9 @@
-//! Measured studies of the samplers: the convergence study (`strata
-//! converge`: RMSE against a cached high-spp reference, by sampler and
-//! spp, as CSV, a log–log plot and fitted slopes) and the aliasing demo
-//! (`strata aliasing`: one scene under several samplers side by side).
+//! Measured studies: the convergence study (`strata converge`: RMSE
+//! against a cached high-spp reference, by sampler and spp, as CSV, a
+//! log–log plot and fitted slopes), the aliasing demo (`strata aliasing`:
+//! one scene under several samplers side by side), adaptive against
+//! uniform sampling (`strata adaptive`, [`adaptive`]) and every pixel
+//! filter against the box (`strata filters`, [`filters`]).
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};

@@ -375,77 +375,87 @@ fn an_adaptive_pixel_is_its_pilot_and_rest_blended_as_documented() {
     };
     let data = built_in("caustics").unwrap();
     let camera = Camera::new(&data.camera, 32, 18).unwrap();
-    let settings = RenderSettings {
-        max_depth: 8,
-        direct_lighting: true,
-        filter: PixelFilter::BOX,
-        texture_filter: TextureFilter::None,
-    };
-    let a = Adaptive::new(8, 64, 0.002).unwrap();
-    let sampler = strata::Independent::new(64, 9).unwrap();
-    let tile = Tile {
-        x0: 10,
-        y0: 8,
-        width: 8,
-        height: 3,
-    };
-    let adapted = data
-        .with_scene(|scene| {
-            let mut film = vec![PixelSum::ZERO; tile.area()];
-            render_tile_adaptive(scene, &camera, &sampler, &settings, tile, a, &mut film).unwrap();
-            let mut adapted = 0;
-            for (i, got) in film.iter().enumerate() {
-                let i = i as u32;
-                let pixel = UVec2::new(tile.x0 + i % tile.width, tile.y0 + i / tile.width);
-                // A sample's value and weight, and the rays it traced.
-                let sample = |index: u32| {
-                    let mut s = sampler.clone();
-                    let (v, w) = pixel_sample(scene, &camera, &mut s, &settings, pixel, index);
-                    let one = Tile {
-                        x0: pixel.x,
-                        y0: pixel.y,
-                        width: 1,
-                        height: 1,
-                    };
-                    let mut f = [PixelSum::ZERO];
-                    let st = render_tile(
-                        scene,
-                        &camera,
-                        &sampler,
-                        &settings,
-                        one,
-                        index..index + 1,
-                        &mut f,
-                    )
+    // The box's instance adds with the unit add, every other filter with
+    // the weighted one: both are checked.
+    let gaussian =
+        PixelFilter::new(strata::filter::FilterKind::named("gaussian").unwrap(), 1.5).unwrap();
+    for filter in [PixelFilter::BOX, gaussian] {
+        let settings = RenderSettings {
+            max_depth: 8,
+            direct_lighting: true,
+            filter,
+            texture_filter: TextureFilter::None,
+        };
+        let a = Adaptive::new(8, 64, 0.002).unwrap();
+        let sampler = strata::Independent::new(64, 9).unwrap();
+        let tile = Tile {
+            x0: 10,
+            y0: 8,
+            width: 8,
+            height: 3,
+        };
+        let adapted = data
+            .with_scene(|scene| {
+                let mut film = vec![PixelSum::ZERO; tile.area()];
+                render_tile_adaptive(scene, &camera, &sampler, &settings, tile, a, &mut film)
                     .unwrap();
-                    (v, w, (st.rays + st.shadow_rays) as u32)
-                };
-                let b = a.block();
-                let (mut parts, mut pilots) = ([PixelSum::ZERO; 3], [PilotStats::ZERO; 2]);
-                for index in 0..2 * b {
-                    let (v, w, rays) = sample(index);
-                    let h = (index / b) as usize;
-                    parts[h].add_weighted(v, w);
-                    pilots[h].add(v, w, rays);
+                let mut adapted = 0;
+                for (i, got) in film.iter().enumerate() {
+                    let i = i as u32;
+                    let pixel = UVec2::new(tile.x0 + i % tile.width, tile.y0 + i / tile.width);
+                    // A sample's value and weight, and the rays it traced.
+                    let sample = |index: u32| {
+                        let mut s = sampler.clone();
+                        let (v, w) = pixel_sample(scene, &camera, &mut s, &settings, pixel, index);
+                        let one = Tile {
+                            x0: pixel.x,
+                            y0: pixel.y,
+                            width: 1,
+                            height: 1,
+                        };
+                        let mut f = [PixelSum::ZERO];
+                        let st = render_tile(
+                            scene,
+                            &camera,
+                            &sampler,
+                            &settings,
+                            one,
+                            index..index + 1,
+                            &mut f,
+                        )
+                        .unwrap();
+                        (v, w, (st.rays + st.shadow_rays) as u32)
+                    };
+                    let b = a.block();
+                    let (mut parts, mut pilots) = ([PixelSum::ZERO; 3], [PilotStats::ZERO; 2]);
+                    for index in 0..2 * b {
+                        let (v, w, rays) = sample(index);
+                        let h = (index / b) as usize;
+                        parts[h].add_weighted(v, w);
+                        pilots[h].add(v, w, rays);
+                    }
+                    let mut both = pilots[0];
+                    both.merge(&pilots[1]);
+                    let rest = a.rest_for(&both);
+                    for index in 2 * b..2 * b + rest {
+                        let (v, w, _) = sample(index);
+                        parts[2].add_weighted(v, w);
+                    }
+                    let [ca, cb] = a.pilot_weights(a.rest_for(&pilots[0]), a.rest_for(&pilots[1]));
+                    let want = PixelSum::blend(&[
+                        (parts[0], ca),
+                        (parts[1], cb),
+                        (parts[2], 1.0 - ca - cb),
+                    ]);
+                    assert_eq!(*got, want, "pixel {pixel}");
+                    adapted += (rest > 2 * b) as usize;
                 }
-                let mut both = pilots[0];
-                both.merge(&pilots[1]);
-                let rest = a.rest_for(&both);
-                for index in 2 * b..2 * b + rest {
-                    let (v, w, _) = sample(index);
-                    parts[2].add_weighted(v, w);
-                }
-                let [ca, cb] = a.pilot_weights(a.rest_for(&pilots[0]), a.rest_for(&pilots[1]));
-                let want =
-                    PixelSum::blend(&[(parts[0], ca), (parts[1], cb), (parts[2], 1.0 - ca - cb)]);
-                assert_eq!(*got, want, "pixel {pixel}");
-                adapted += (rest > 2 * b) as usize;
-            }
-            adapted
-        })
-        .unwrap();
-    assert!(
-        adapted > 0 && adapted < tile.area(),
-        "{adapted} pixels adapted"
-    );
+                adapted
+            })
+            .unwrap();
+        assert!(
+            adapted > 0 && adapted < tile.area(),
+            "{adapted} pixels adapted"
+        );
+    }
 }

@@ -54,14 +54,14 @@ fn cdf(values: &[f32; N]) -> Option<([f32; N1], f32)> {
 /// Gaussian-filtered render).
 #[inline]
 fn find(c: &[f32; N1], u: f32) -> usize {
-    use crate::trace::lanes::{f32x8, lanes_le};
+    use crate::trace::lanes::{f32x8, lanes_bitmask, lanes_le};
     const _: () = assert!(N.is_multiple_of(8));
     let u8 = f32x8::splat(u);
     let below: u32 = c[1..]
         .chunks_exact(8)
         .map(|x| {
             let x: [f32; 8] = x.try_into().unwrap_or([f32::NAN; 8]);
-            lanes_le(f32x8::from(x), u8).to_bitmask().count_ones()
+            lanes_bitmask(lanes_le(f32x8::from(x), u8)).count_ones()
         })
         .sum();
     (below as usize).min(N - 1)
@@ -156,4 +156,51 @@ impl PiecewiseConstant2D {
 fn cell(p: Vec2) -> (usize, usize) {
     let k = |v: f32| ((v * N as f32) as usize).min(N - 1);
     (k(p.x), k(p.y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn find_counts_as_a_binary_search_finds() {
+        let search = |c: &[f32; N1], u: f32| c[1..].partition_point(|&x| x <= u).min(N - 1);
+        // A CDF with empty intervals (repeated values), one that is all 0
+        // but its end, and an even one.
+        let mut steps = [0.0f32; N1];
+        for (k, c) in steps.iter_mut().enumerate() {
+            *c = ((k / 3) as f32 * 3.0 / N as f32).min(1.0);
+        }
+        steps[N] = 1.0;
+        let mut zero = [0.0f32; N1];
+        zero[N] = 1.0;
+        let mut even = [0.0f32; N1];
+        for (k, c) in even.iter_mut().enumerate() {
+            *c = k as f32 / N as f32;
+        }
+        for c in [steps, zero, even] {
+            let edges = [
+                -1.0,
+                -0.0,
+                0.0,
+                0.999_999_94,
+                1.0,
+                2.0,
+                f32::NAN,
+                f32::INFINITY,
+            ];
+            let us = c
+                .iter()
+                .copied()
+                .chain(edges)
+                .chain((0..=1000).map(|i| i as f32 / 1000.0))
+                .chain(
+                    c.iter()
+                        .map(|&x| f32::from_bits(x.to_bits().wrapping_add(1))),
+                );
+            for u in us {
+                assert_eq!(find(&c, u), search(&c, u), "{u}");
+            }
+        }
+    }
 }

@@ -126,19 +126,23 @@ impl Adaptive {
     /// The default threshold (`strata render --adaptive`), chosen with
     /// [`DEFAULT_MIN`](Adaptive::DEFAULT_MIN) and
     /// [`DEFAULT_MAX`](Adaptive::DEFAULT_MAX) by `strata adaptive` on
-    /// `caustics`, `week09` and `cover` (README, "Adaptive sampling"): one
-    /// setting that beats uniform sampling at equal cost on all three.
+    /// `caustics`, `week09` and `cover` (the README's adaptive sampling
+    /// table): one setting whose RMSE is below uniform sampling's at equal
+    /// rays and CPU seconds on all three (relMSE, which weighs dark pixels
+    /// up, is not, on `caustics`).
     pub const DEFAULT_THRESHOLD: f32 = 0.0004;
     /// The default minimum: four blocks of 64, each a (0, 6, 2)-net of
     /// the Sobol' family's first two dimensions. A pixel whose bright
     /// paths are rarer than about one in `min / 2` samples looks smooth
     /// to the pilot; a smaller minimum misses more of them (measured on
-    /// `caustics` at equal cost: 128 gave 0.80 of uniform sampling's RMSE,
-    /// 256 gives 0.59, 64 lost to uniform sampling).
+    /// `caustics` at equal rays and threshold 0.001: a minimum of 128 gave
+    /// 0.80 of uniform sampling's RMSE, 256 gives 0.62 and 512 0.52; 256
+    /// keeps an adaptive render's least cost at half of 512's).
     pub const DEFAULT_MIN: u32 = 256;
     /// The default maximum: 16 times the minimum, room for the few pixels
-    /// whose pilot caught a rare bright path (`caustics`: 0.61 of uniform
-    /// sampling's RMSE with a maximum of 2048, 0.59 with 4096).
+    /// whose pilot caught a rare bright path (`caustics` at threshold
+    /// 0.0005: 0.61 of uniform sampling's RMSE with a maximum of 2048, 0.58
+    /// with 4096).
     pub const DEFAULT_MAX: u32 = 4096;
 
     /// At least `min` samples (a multiple of 4 of at least 8: four blocks

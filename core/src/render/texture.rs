@@ -131,7 +131,7 @@ impl Texture<'_> {
         match self {
             Texture::Solid(c) => *c,
             Texture::Checker { scale, even, odd } => {
-                let cell = |x: f32| libm::floorf(x / scale) as i64;
+                let cell = |x: f32| crate::float::floor_i64(x / scale);
                 // Saturating casts keep huge or NaN points from panicking.
                 let sum = cell(p.x).wrapping_add(cell(p.y)).wrapping_add(cell(p.z));
                 if sum & 1 == 0 { *even } else { *odd }
@@ -185,7 +185,7 @@ impl Texture<'_> {
         let axis = |x: f32, h: f32| {
             square_wave_average(x as f64 / s, h as f64 / s).unwrap_or_else(|| {
                 // The point value, by the same cell rule as `value`.
-                let k = libm::floorf(x / scale) as i64;
+                let k = crate::float::floor_i64(x / scale);
                 if k & 1 == 0 { 1.0 } else { -1.0 }
             })
         };

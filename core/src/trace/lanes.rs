@@ -4,7 +4,8 @@
 //!
 //! The two SIMD modules, `packet` (sphere chunks, ray and hit packets, the
 //! brute-force 8-wide kernels) and `bvh` (node boxes, slab tests, packet
-//! traversal), take `f32x8` and `i32x8` from here. They build and read
+//! traversal), and the piecewise-constant tables' cell search
+//! (`mapping::piecewise`) take `f32x8` and `i32x8` from here. They build and read
 //! them (`ZERO`, `splat`, `new`, `to_array`, `as_array`) and use the
 //! arithmetic and bitwise operators; every comparison, select, bitmask
 //! and bit cast goes through the wrappers below, because `wide` has

@@ -21,7 +21,12 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
     let scene = resolve_scene(&args.scene)?;
     let height = height_for(&scene, args.width, None)?;
     check_pixels(args.width, height, 1)?;
-    let largest = args.spps.iter().copied().max().unwrap_or(1);
+    // Each spp and filter once, the spps ascending (the box's rate is
+    // measured between neighbours).
+    let mut spps = args.spps.clone();
+    spps.sort_unstable();
+    spps.dedup();
+    let largest = spps.last().copied().unwrap_or(1);
     if args.reference_spp / REFERENCE_FACTOR < largest {
         bail!(
             "--reference-spp {} must be at least {REFERENCE_FACTOR} times the largest of --spps \
@@ -32,10 +37,16 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
     if let Some(csv) = &args.csv {
         check_output_ext(csv, "csv", "--csv")?;
     }
-    let names: Vec<FilterName> = match args.filters.is_empty() {
+    let mut names: Vec<FilterName> = match args.filters.is_empty() {
         true => FilterName::value_variants().to_vec(),
         false => args.filters.clone(),
     };
+    let mut seen = Vec::new();
+    names.retain(|n| {
+        let new = !seen.contains(n);
+        seen.push(*n);
+        new
+    });
     let filters = names
         .iter()
         .map(|n| n.filter(None))
@@ -57,7 +68,7 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
         height,
         view.max_depth,
         args.sampler.name(),
-        args.spps,
+        spps,
         args.seeds,
         args.rounds
     ));
@@ -70,7 +81,7 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
         args.sampler,
         &filters,
         &study::filters::Settings {
-            spps: args.spps.clone(),
+            spps,
             seeds: args.seeds,
             rounds: args.rounds,
             reference_spp: args.reference_spp,

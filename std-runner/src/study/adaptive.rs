@@ -9,7 +9,9 @@
 //! second pass that renders the adaptive view and every ladder rung in
 //! turn, seed by seed (A, U₁, U₂, …, A, U₁, …), so a change in the
 //! machine's load falls on all of them alike; the first pass runs each
-//! row's seeds back to back and only chooses the ladder. The uniform RMSE
+//! row's seeds back to back and only chooses the ladder (should the second
+//! pass's times fall outside it, the CPU-seconds ratio reads n/a). The
+//! uniform RMSE
 //! and relMSE
 //! are interpolated log–log between the two ladder points around the
 //! adaptive run's cost. Bias is the adaptive image's mean luminance

@@ -7,17 +7,17 @@
 //! the reference there: a negative pixel where the reference is at least
 //! [`CLEAR`] is noise, one where it is below 0 is the filter's own
 //! ringing, and one in between is a pixel whose value is about 0, where
-//! the 1024-spp reference's sign is itself uncertain), the
+//! the reference's sign is itself uncertain), the
 //! pixels that fell back to their box mean, and the mean luminance
-//! against the box's at the same spp. Cost is the wall time of the
-//! tracing (the view's threads), measured with the renders interleaved,
-//! filter by filter within each seed, and again in further rounds: a
-//! filter's time against the box's is the median, over seeds and rounds,
-//! of its render's time over the box render's just before it, so a change
-//! in the machine's load falls on both alike. The RMSE at equal time is
-//! `RMSE / RMSE_box · √(time / time_box)`: error falls as one over the
-//! square root of the samples, so that is the ratio after the box is given
-//! the filter's time.
+//! against the box's at the same spp. Cost is a render's wall time
+//! ([`crate::render::Rendered::wall`]: its BVH and its tracing, on the
+//! view's threads), measured with the renders interleaved, filter by
+//! filter within each seed, and again in further rounds: a filter's time
+//! against the box's is the median, over seeds and rounds, of its render's
+//! time over the box render's of the same seed and round, so a change in
+//! the machine's load falls on both alike. The RMSE at equal time gives the
+//! box the filter's time, its error falling at its own measured rate
+//! ([`Report::against_box`]).
 
 use std::fmt::Write as _;
 
@@ -62,7 +62,7 @@ pub struct Row {
     /// The median wall seconds of one render's tracing.
     pub seconds: f64,
     /// The median over renders of the time against the box's render of
-    /// the same seed and round, just before it (NaN where unknown).
+    /// the same seed and round (NaN where unknown).
     pub time_ratio: f64,
 }
 
@@ -85,8 +85,37 @@ impl Report {
             .find(|r| r.spp == spp && r.filter == PixelFilter::BOX)
     }
 
+    /// The box's log–log slope of RMSE against spp at `spp`: from its row
+    /// at the next lower spp measured (the next higher for the lowest);
+    /// `−½`, independent samples' rate, where only one spp was measured or
+    /// an RMSE is 0.
+    #[must_use]
+    pub fn box_slope(&self, spp: u32) -> f64 {
+        let mut boxes: Vec<&Row> = self
+            .rows
+            .iter()
+            .filter(|r| r.filter == PixelFilter::BOX)
+            .collect();
+        boxes.sort_by_key(|r| r.spp);
+        let Some(k) = boxes.iter().position(|r| r.spp == spp) else {
+            return -0.5;
+        };
+        let (a, b) = match k {
+            0 if boxes.len() > 1 => (boxes[0], boxes[1]),
+            0 => return -0.5,
+            k => (boxes[k - 1], boxes[k]),
+        };
+        let slope = (b.rmse / a.rmse).ln() / (f64::from(b.spp) / f64::from(a.spp)).ln();
+        if slope.is_finite() { slope } else { -0.5 }
+    }
+
     /// `(mean luminance − 1, RMSE, time, RMSE at equal time)` as ratios to
-    /// the box's at the same spp; each `None` where the box's is 0.
+    /// the box's at the same spp; each `None` where the box's is 0 or the
+    /// time unknown. At equal time the box is given the filter's time `t`
+    /// (as a multiple of its own): its RMSE would be `RMSE_box · tˢ`, `s`
+    /// its measured slope ([`Report::box_slope`]), so the ratio is `RMSE /
+    /// RMSE_box · t⁻ˢ` (`√t` for independent samples; more for Sobol',
+    /// whose error falls faster).
     #[must_use]
     pub fn against_box(&self, r: &Row) -> [Option<f64>; 4] {
         let Some(b) = self.box_at(r.spp) else {
@@ -95,11 +124,12 @@ impl Report {
         let ratio = |x: f64, y: f64| (y > 0.0).then(|| x / y);
         let e = ratio(r.rmse, b.rmse);
         let t = (r.time_ratio.is_finite() && r.time_ratio > 0.0).then_some(r.time_ratio);
+        let s = self.box_slope(r.spp);
         [
             ratio(r.mean_luminance, b.mean_luminance).map(|y| y - 1.0),
             e,
             t,
-            e.zip(t).map(|(e, t)| e * t.sqrt()),
+            e.zip(t).map(|(e, t)| e * t.powf(-s)),
         ]
     }
 
@@ -110,7 +140,7 @@ impl Report {
         write!(
             t,
             "{} seed(s); each filter against its own reference: sobol {} spp\n\
-             {:<22} {:>5} {:>11} {:>27} {:>10} {:>11} {:>9} {:>9} {:>9} {:>12}",
+             {:<22} {:>5} {:>11} {:>27} {:>11} {:>11} {:>9} {:>9} {:>9} {:>12}",
             self.seeds,
             self.reference_spp,
             "filter",
@@ -384,7 +414,7 @@ mod tests {
     }
 
     #[test]
-    fn equal_time_scales_the_rmse_ratio_by_the_root_of_the_cost() {
+    fn equal_time_gives_the_box_the_time_at_its_measured_rate() {
         let row = |filter, rmse, seconds| Row {
             filter,
             spp: 4,
@@ -416,5 +446,28 @@ mod tests {
         assert_eq!(unknown.against_box(&unknown.rows[1])[3], None);
         assert!(report.table().contains("lanczos"));
         assert_eq!(report.csv().lines().count(), 3);
+        // With the box also at 16 spp, its error falling as spp^-0.75, the
+        // box given four times the time gains 4^0.75 at 4 and at 16 spp.
+        let mut two = report.clone();
+        let at16 = |mut r: Row, rmse: f64| {
+            r.spp = 16;
+            r.rmse = rmse;
+            r
+        };
+        two.rows
+            .push(at16(two.rows[0].clone(), 0.1 * 4f64.powf(-0.75)));
+        two.rows
+            .push(at16(two.rows[1].clone(), 0.1 * 4f64.powf(-0.75)));
+        assert!((two.box_slope(4) + 0.75).abs() < 1e-12);
+        assert!((two.box_slope(16) + 0.75).abs() < 1e-12);
+        for r in &two.rows[2..] {
+            let eq = two.against_box(r)[3].unwrap();
+            let want = if r.filter == PixelFilter::BOX {
+                1.0
+            } else {
+                4f64.powf(0.75)
+            };
+            assert!((eq - want).abs() < 1e-12, "{eq}");
+        }
     }
 }
