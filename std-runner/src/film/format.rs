@@ -23,15 +23,23 @@ impl Film {
     /// The file bytes: header and body.
     #[must_use]
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
-        for p in &self.pixels {
-            for s in p.sum.into_iter().chain([p.weight]) {
-                body.extend_from_slice(&s.to_le_bytes());
+        let mut body = vec![0u8; self.pixels.len() * BYTES_PER_PIXEL];
+        for (p, out) in self
+            .pixels
+            .iter()
+            .zip(body.chunks_exact_mut(BYTES_PER_PIXEL))
+        {
+            // Fixed offsets into a fixed-size record: no length checks and
+            // regrowth per field (a byte-by-byte extend cost about 350
+            // instructions a pixel, 1.7 % of a cover render).
+            let words = [p.sum[0], p.sum[1], p.sum[2], p.weight];
+            for (o, s) in out[..32].chunks_exact_mut(8).zip(words) {
+                o.copy_from_slice(&s.to_le_bytes());
             }
-            body.extend_from_slice(&p.samples.to_le_bytes());
-            body.extend_from_slice(&p.dropped.to_le_bytes());
-            for s in p.own_minus_sum {
-                body.extend_from_slice(&s.to_le_bytes());
+            out[32..36].copy_from_slice(&p.samples.to_le_bytes());
+            out[36..40].copy_from_slice(&p.dropped.to_le_bytes());
+            for (o, s) in out[40..].chunks_exact_mut(8).zip(p.own_minus_sum) {
+                o.copy_from_slice(&s.to_le_bytes());
             }
         }
         let mut head = String::new();
