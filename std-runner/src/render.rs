@@ -193,7 +193,8 @@ pub struct Rendered {
     /// window's alone unless the filter splats and the window is not the
     /// whole image.
     pub pixels: Vec<PixelSum>,
-    /// Wall-clock time of the tracing.
+    /// Wall-clock time of the render: the BVH's build and the tracing
+    /// (not the merge of splatted tiles' borders, which follows).
     pub wall: Duration,
     /// What was traced: camera paths, closest-hit rays, shadow rays.
     pub stats: TileStats,

@@ -1759,6 +1759,10 @@ fn filter_study_checks_its_flags_then_measures_every_filter_against_the_box() {
         assert!(rmse > 0.0 && rmse < 1.0, "{r:?}");
         assert!(r[8].parse::<f64>().unwrap() > 0.0, "{r:?}");
     }
+    // The box against itself is 1, in time and at equal time.
+    for r in rows.iter().filter(|r| r[0].starts_with("box")) {
+        assert_eq!((r[10], r[11]), ("1", "1"), "{r:?}");
+    }
     // The other filters render with their own filter (another error than
     // the box's) and were timed against it.
     for pair in rows.chunks(3) {

@@ -30,7 +30,7 @@ impl Film {
             .zip(body.chunks_exact_mut(BYTES_PER_PIXEL))
         {
             // Fixed offsets into a fixed-size record: no length checks and
-            // regrowth per field (a byte-by-byte extend cost about 350
+            // regrowth per field (extending field by field cost about 350
             // instructions a pixel, 1.7 % of a cover render).
             let words = [p.sum[0], p.sum[1], p.sum[2], p.weight];
             for (o, s) in out[..32].chunks_exact_mut(8).zip(words) {

@@ -11,9 +11,8 @@
 //! machine's load falls on all of them alike; the first pass runs each
 //! row's seeds back to back and only chooses the ladder (should the second
 //! pass's times fall outside it, the CPU-seconds ratio reads n/a). The
-//! uniform RMSE
-//! and relMSE
-//! are interpolated log–log between the two ladder points around the
+//! uniform RMSE and relMSE are interpolated log–log between the two ladder
+//! points around the
 //! adaptive run's cost. Bias is the adaptive image's mean luminance
 //! against the reference's, with its standard error over seeds (which
 //! leaves out the reference's own error, shared by every seed: at 64

@@ -59,7 +59,7 @@ pub struct Row {
     pub pixels: u64,
     /// Mean luminance over pixels and seeds.
     pub mean_luminance: f64,
-    /// The median wall seconds of one render's tracing.
+    /// The median wall seconds of one render ([`crate::render::Rendered::wall`]).
     pub seconds: f64,
     /// The median over renders of the time against the box's render of
     /// the same seed and round (NaN where unknown).
