@@ -243,16 +243,62 @@ impl Sphere {
     #[inline]
     #[must_use]
     pub fn spawn_origin(&self, p: Vec3, outside: bool) -> Vec3 {
-        // Scale before squaring so tiny offsets neither underflow nor
-        // overflow.
-        let v = p - self.center;
-        let v = v / v.abs().max_element();
-        let n = v / crate::float::sqrtf(v.length_squared());
+        self.spawn_origin_along(self.unit_normal(p), outside)
+    }
+
+    /// [`Sphere::spawn_origin`] from the outward unit normal `n` already
+    /// known at the point (as [`Sphere::unit_normal`] gives it): the
+    /// centre plus `n` times the radius moved [`Sphere::offset_bound`]
+    /// (capped at `r / 2`) to the chosen side. A renderer that shades with
+    /// the normal saves computing it twice.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Sphere;
+    /// let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.5);
+    /// let p = Vec3::new(1.0, 2.5, 3.0);
+    /// let o = s.spawn_origin_along(s.unit_normal(p), true);
+    /// assert_eq!(o, s.spawn_origin(p, true));
+    /// assert!(o.y > 2.5 && o.y - 2.5 <= s.offset_bound());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn spawn_origin_along(&self, n: Vec3, outside: bool) -> Vec3 {
         // A sphere smaller than its own rounding at this position: stay
         // within it rather than jump past its centre.
         let offset = self.offset_bound().min(0.5 * self.radius);
         let side = if outside { offset } else { -offset };
         self.center + n * (self.radius + side)
+    }
+
+    /// The outward unit normal towards `p` (a point on or near the
+    /// surface): `(p − c) / |p − c|`, with glam's `normalize` bits where
+    /// `|p − c|²` is comfortably inside the `f32` range (`10⁻³⁰` to
+    /// `10³⁰`) and, beyond, scaled by its largest component first so it
+    /// neither underflows nor overflows. NaN for `p` at the centre.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Sphere;
+    /// let s = Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0);
+    /// let n = s.unit_normal(Vec3::new(3.0, 0.0, 4.0));
+    /// assert!((n.length() - 1.0).abs() < 1e-6 && n.y > 0.99);
+    /// // A sphere of radius 10⁻²⁵: |p − c|² underflows, the normal does not.
+    /// let tiny = Sphere::new(Vec3::ZERO, 1e-25);
+    /// assert_eq!(tiny.unit_normal(Vec3::new(0.0, 0.0, -1e-25)), -Vec3::Z);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn unit_normal(&self, p: Vec3) -> Vec3 {
+        let v = p - self.center;
+        let len2 = v.dot(v);
+        if (1e-30..=1e30).contains(&len2) {
+            v * (1.0 / crate::float::sqrtf(len2))
+        } else {
+            // Scale before squaring.
+            let v = v / v.abs().max_element();
+            v / crate::float::sqrtf(v.length_squared())
+        }
     }
 }
 
@@ -350,11 +396,56 @@ pub(crate) fn sphere_t<L: Lanes>(
     t_max: L,
 ) -> L {
     let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
-    if L::any(k.valid) {
+    if L::any(may_hit(&k, t_min)) {
         sphere_roots(k, t_min, t_max)
     } else {
         L::splat(f32::INFINITY)
     }
+}
+
+/// [`sphere_t`] for a caller that reads only the `live` lanes: stage two
+/// is skipped when none of them can hit (the other lanes' `t` is then
+/// unspecified).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sphere_t_live<L: Lanes>(
+    ox: L,
+    oy: L,
+    oz: L,
+    dx: L,
+    dy: L,
+    dz: L,
+    cx: L,
+    cy: L,
+    cz: L,
+    r: L,
+    t_min: L,
+    t_max: L,
+    live: L::Mask,
+) -> L {
+    let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
+    if L::any(L::and(may_hit(&k, t_min), live)) {
+        sphere_roots(k, t_min, t_max)
+    } else {
+        L::splat(f32::INFINITY)
+    }
+}
+
+/// Lanes where [`sphere_roots`] can return a hit. Beyond `valid`: an
+/// origin outside the sphere (`c₀ > 0`) moving away from it (`b > 0`)
+/// has both roots behind it, which stage two rejects whenever
+/// `t_min ≥ 0`: `q = −b − √Δ < 0`, so `t₁ = q < 0` and `t₀ = c₀ / q ≤ 0`
+/// (−0 at worst), neither above `t_min`. Skipping them saves a square
+/// root and a division, on the critical path, for every ray leaving a
+/// surface, and changes no result.
+#[inline(always)]
+pub(crate) fn may_hit<L: Lanes>(k: &Quadratic<L>, t_min: L) -> L::Mask {
+    let zero = L::splat(0.0);
+    // Not (c₀ > 0 and b > 0 and t_min ≥ 0). A NaN in c₀ or b, which the
+    // complements below count as "behind", leaves no root above a
+    // non-negative t_min either: t₀ is NaN, and q is NaN or negative.
+    let ahead = L::or(zero.ge(k.c), L::or(zero.ge(k.b), t_min.lt(zero)));
+    L::and(k.valid, ahead)
 }
 
 /// The scalar kernel on a ray and a sphere.
@@ -574,6 +665,66 @@ mod tests {
     use super::*;
 
     const UNIT: Sphere = Sphere::new(Vec3::ZERO, 1.0);
+
+    /// Skipping stage two where `may_hit` is unset changes no result: the
+    /// kernel equals stage two run on every lane its `valid` allows, for
+    /// rays leaving surfaces (outward and inward), passing, inside and
+    /// NaN rays, `t_min` from −1 to 1 and NaN.
+    #[test]
+    fn skipping_rays_that_leave_a_sphere_changes_no_result() {
+        use rand_core::Rng;
+        let mut rng = rand_pcg::Pcg32::new(11, 3);
+        let mut u = || (rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0);
+        let mut skipped = 0;
+        for k in 0..400_000u32 {
+            let c = Vec3::new(u() * 20.0 - 10.0, u() * 20.0 - 10.0, u() * 20.0 - 10.0);
+            let r = [0.01, 1.0, 1000.0][(k % 3) as usize] * (0.5 + u());
+            let d = crate::mapping::sample_uniform_sphere(glam::Vec2::new(u(), u()));
+            let n = crate::mapping::sample_uniform_sphere(glam::Vec2::new(u(), u()));
+            let s = Sphere::new(c, r);
+            let o = match k % 4 {
+                // On the surface, nudged out or in by the spawn rule.
+                0 => s.spawn_origin_along(n, true),
+                1 => s.spawn_origin_along(n, false),
+                2 => c + n * r * (u() * 3.0),
+                _ => c + n * r * (1.0 + (u() - 0.5) * 1e-6),
+            };
+            let t_min = match k % 7 {
+                0 => -1.0,
+                1 => f32::NAN,
+                2 => -0.0,
+                _ => u() - 0.5,
+            };
+            let o = if k % 101 == 0 { Vec3::NAN } else { o };
+            let args = (o.x, o.y, o.z, d.x, d.y, d.z, c.x, c.y, c.z, r);
+            let q = sphere_quadratic(
+                args.0, args.1, args.2, args.3, args.4, args.5, args.6, args.7, args.8, args.9,
+            );
+            let want = if q.valid {
+                sphere_roots(q, t_min, f32::INFINITY)
+            } else {
+                f32::INFINITY
+            };
+            let got = sphere_t(
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                args.5,
+                args.6,
+                args.7,
+                args.8,
+                args.9,
+                t_min,
+                f32::INFINITY,
+            );
+            assert_eq!(got.to_bits(), want.to_bits(), "ray {k}");
+            skipped += usize::from(q.valid && !may_hit(&q, t_min));
+        }
+        // The case it is for is common: about half the rays leaving outward.
+        assert!(skipped > 40_000, "{skipped}");
+    }
 
     #[test]
     fn origin_inside_hits_the_far_side() {

@@ -102,7 +102,51 @@ fn scenes() -> Vec<(String, Vec<Sphere>)> {
     out.push(("one centre".into(), same));
     // The cover layout.
     out.push(("cover".into(), strata_runner::scenes::cover_spheres()));
+    // Two outliers kept out of the tree (a ground, and a huge sphere far
+    // above), around small spheres, one of them tangent to the ground.
+    let mut outliers: Vec<Sphere> = (0..200)
+        .map(|_| {
+            let c = Vec3::new(
+                range(&mut rng, -5.0, 5.0),
+                range(&mut rng, 0.1, 3.0),
+                range(&mut rng, -5.0, 5.0),
+            );
+            Sphere::new(c, range(&mut rng, 0.05, 0.3))
+        })
+        .collect();
+    outliers.insert(50, Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0));
+    outliers.push(Sphere::new(Vec3::new(0.0, 30_000.0, 0.0), 20_000.0));
+    outliers.push(Sphere::new(Vec3::new(1.0, 0.25, 1.0), 0.25));
+    out.push(("outliers".into(), outliers));
     out
+}
+
+/// Spheres whose box dwarfs the rest are kept out of the tree (and the
+/// brute-force test above covers their scenes); spheres that all fit one
+/// leaf, or of similar sizes, are not.
+#[test]
+fn outliers_are_the_spheres_that_dwarf_the_rest() {
+    let want = [
+        ("random 1", 0),
+        ("random 7", 0),
+        ("random 8", 0),
+        ("random 9", 0),
+        ("random 100", 0),
+        ("random 10000", 0),
+        ("mixed", 0), // two radius-1000 spheres: neither dwarfs the other
+        ("one centre", 0),
+        ("cover", 1),
+        ("outliers", 2),
+    ];
+    let scenes = scenes();
+    assert_eq!(scenes.len(), want.len());
+    for ((name, spheres), (want_name, count)) in scenes.iter().zip(want) {
+        assert_eq!(name, want_name);
+        let mut store = BvhBuffers::new(spheres.len());
+        let bvh = store.build(spheres);
+        assert_eq!(bvh.outliers(), count, "{name}");
+        assert!(bvh.built_from(spheres), "{name}");
+    }
 }
 
 /// Rays for a scene: from a box around it, from sphere centres (inside),

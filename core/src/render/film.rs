@@ -53,10 +53,13 @@ pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
 #[must_use]
 pub(crate) fn to_fixed(x: f32) -> i64 {
     let y = x.clamp(-MAX_SAMPLE_VALUE, MAX_SAMPLE_VALUE) * FILM_SCALE;
-    // |y| ≤ 2⁴⁰: the truncation fits an i64 and is an f32 again.
-    let t = y as i64;
-    let frac = y - t as f32;
-    t + (frac >= 0.5) as i64 - (frac <= -0.5) as i64
+    // Half away from zero, as `roundf`, in five instructions: `y ± ½` in
+    // f64 is exact for 2⁻²⁹ ≤ |y| ≤ 2⁴⁰ (y has 24 significant bits; the
+    // sum needs at most 25, or 24 − e for y's exponent e below −1), so the
+    // truncating cast rounds it; for smaller |y| the sum, however it
+    // rounds, stays within 2⁻²⁹ of ½ and truncates to 0, as it should.
+    let d = y as f64;
+    (d + 0.5f64.copysign(d)) as i64
 }
 
 /// One pixel's exact accumulator: fixed-point sums of the weighted RGB,

@@ -94,11 +94,11 @@ pub(crate) fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 /// The surface record of a hit.
-#[inline]
+#[inline(always)]
 fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> SurfaceHit {
     let s = scene.spheres()[hit.sphere as usize];
     let p = ray.at(hit.t);
-    let outward = crate::float::normalize_or_zero(p - s.center);
+    let outward = s.unit_normal(p);
     let front_face = ray.dir.dot(outward) < 0.0;
     SurfaceHit {
         p,
@@ -187,7 +187,7 @@ fn direct_light(
     }
     // The shadow ray leaves on the side the shading normal faces.
     let here = scene.spheres()[hit.sphere as usize];
-    let shadow = Ray::new(here.spawn_origin(surf.p, surf.front_face), wi);
+    let shadow = Ray::new(here.spawn_origin_along(surf.outward(), surf.front_face), wi);
     let Some(t_light) = intersect_sphere(&light, &shadow) else {
         return Vec3::ZERO; // grazed the rim by rounding
     };
@@ -288,20 +288,36 @@ pub(crate) fn trace_path<S: Sampler>(
         };
         let sphere = scene.spheres()[h.sphere as usize];
         let outside = surf.front_face != s.transmitted;
-        ray = Ray::new(sphere.spawn_origin(surf.p, outside), s.wi);
+        ray = Ray::new(sphere.spawn_origin_along(surf.outward(), outside), s.wi);
     }
     radiance
 }
 
-/// One camera sample: the ray, the filter weight, and the differential
-/// rays when textures are filtered.
+/// One camera sample: the ray, the filter weight, and what the
+/// differential rays are made from when textures are filtered.
 #[derive(Clone, Copy)]
 pub(crate) struct CameraSample {
     pub(crate) ray: Ray,
     /// Where in the pixel, from its corner (the filter's offset).
     pub(crate) offset: Vec2,
     pub(crate) weight: f32,
-    pub(crate) diff: Option<[Ray; 2]>,
+    /// The lens sample.
+    pub(crate) lens: Vec2,
+}
+
+impl CameraSample {
+    /// The differential rays `spacing` pixels apart (none if 0), made on
+    /// demand: most renders filter no texture, and carrying two rays per
+    /// sample cost them copies.
+    #[inline(always)]
+    pub(crate) fn differentials(
+        &self,
+        camera: &Camera,
+        pixel: UVec2,
+        spacing: f32,
+    ) -> Option<[Ray; 2]> {
+        (spacing > 0.0).then(|| differentials(camera, pixel, self.offset, self.lens, spacing))
+    }
 }
 
 /// The differential spacing `δ` in pixels for a sampler of `spp` (see
@@ -331,14 +347,12 @@ fn differentials(
     ]
 }
 
-/// The camera sample `index` of `pixel`, with differential rays `spacing`
-/// pixels apart (none if 0); leaves the sampler after the camera's
-/// dimensions (pixel 0–1, lens 2–3).
+/// The camera sample `index` of `pixel`; leaves the sampler after the
+/// camera's dimensions (pixel 0–1, lens 2–3).
 #[inline(always)]
 pub(crate) fn camera_ray<S: Sampler>(
     camera: &Camera,
     filter: &PixelFilter,
-    spacing: f32,
     sampler: &mut S,
     pixel: UVec2,
     index: u32,
@@ -346,12 +360,11 @@ pub(crate) fn camera_ray<S: Sampler>(
     sampler.start_pixel_sample(pixel, index);
     let f = filter.pixel_sample(sampler.pixel_2d());
     let lens = sampler.next_2d();
-    let diff = (spacing > 0.0).then(|| differentials(camera, pixel, f.offset, lens, spacing));
     CameraSample {
         ray: camera.ray(pixel, f.offset, lens),
         offset: f.offset,
         weight: f.weight,
-        diff,
+        lens,
     }
 }
 
@@ -459,10 +472,11 @@ pub fn pixel_sample_with<S: Sampler>(
     stack: &mut BvhStack,
 ) -> (Vec3, f32) {
     let spacing = differential_spacing(settings, sampler.samples_per_pixel());
-    let c = camera_ray(camera, &settings.filter, spacing, sampler, pixel, index);
+    let c = camera_ray(camera, &settings.filter, sampler, pixel, index);
     let mut scratch = Scratch::new(stack);
     let first = scene.closest_hit_with(&c.ray, scratch.stack);
-    let l = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, c.diff);
+    let diff = c.differentials(camera, pixel, spacing);
+    let l = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, diff);
     (l, c.weight)
 }
 

@@ -172,9 +172,19 @@ impl Texture<'_> {
     /// let far = c.filtered(Vec2::ZERO, p, Vec3::new(2.0, 0.0, 3.0));
     /// assert!((far - Vec3::splat(0.5)).abs().max_element() < 1e-6);
     /// ```
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn filtered(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
+        // A solid colour, the common case, without a call.
+        if let Texture::Solid(c) = self {
+            return *c;
+        }
+        self.filtered_varying(uv, p, half_width)
+    }
+
+    /// [`Texture::filtered`] for the textures that vary.
+    #[inline(never)]
+    fn filtered_varying(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
         let Texture::Checker { scale, even, odd } = self else {
             return self.value(uv, p);
         };

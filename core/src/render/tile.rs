@@ -11,7 +11,7 @@ use super::RenderSettings;
 use super::adaptive::{Adaptive, PilotStats};
 use super::camera::Camera;
 use super::film::{MAX_SAMPLE_VALUE, PixelSum};
-use super::integrator::{Scratch, camera_ray, differential_spacing, trace_path};
+use super::integrator::{CameraSample, Scratch, camera_ray, differential_spacing, trace_path};
 use super::scene::Scene;
 use crate::sampler::Sampler;
 use crate::trace::{BvhStack, HitPacket8, Ray, RayPacket8};
@@ -185,18 +185,11 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
         let mut weights = [0.0f32; 8];
         let mut offsets = [Vec2::ZERO; 8];
-        let mut diffs = [None; 8];
+        let mut lens = [Vec2::ZERO; 8];
         for (k, &l) in ids.iter().enumerate() {
             let pixel = self.first + UVec2::new(l as u32, 0);
-            let c = camera_ray(
-                camera,
-                &settings.filter,
-                self.spacing,
-                &mut self.lanes[l],
-                pixel,
-                index,
-            );
-            (rays[k], weights[k], offsets[k], diffs[k]) = (c.ray, c.weight, c.offset, c.diff);
+            let c = camera_ray(camera, &settings.filter, &mut self.lanes[l], pixel, index);
+            (rays[k], weights[k], offsets[k], lens[k]) = (c.ray, c.weight, c.offset, c.lens);
         }
         // A packet costs about as much as 8 rays, so when adaptive sampling
         // leaves few lanes active they are traced one by one (the hits are
@@ -219,6 +212,14 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         }
         for (k, &l) in ids.iter().enumerate() {
             let before = self.scratch.stats.rays + self.scratch.stats.shadow_rays;
+            let c = CameraSample {
+                ray: rays[k],
+                offset: offsets[k],
+                weight: weights[k],
+                lens: lens[k],
+            };
+            let pixel = self.first + UVec2::new(l as u32, 0);
+            let diff = c.differentials(camera, pixel, self.spacing);
             let v = trace_path(
                 scene,
                 self.scratch,
@@ -226,7 +227,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
                 settings,
                 rays[k],
                 first[k],
-                diffs[k],
+                diff,
             );
             let rays = self.scratch.stats.rays + self.scratch.stats.shadow_rays - before;
             sink(l, v, weights[k], rays as u32, offsets[k]);

@@ -45,6 +45,7 @@ pub(crate) trait Lanes:
     fn gt(self, rhs: Self) -> Self::Mask;
     fn ge(self, rhs: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Whether any lane of the mask is set.
     fn any(mask: Self::Mask) -> bool;
     /// `if mask { a } else { b }` per lane.
@@ -76,6 +77,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn and(a: bool, b: bool) -> bool {
         a & b
+    }
+    #[inline(always)]
+    fn or(a: bool, b: bool) -> bool {
+        a | b
     }
     #[inline(always)]
     fn any(mask: bool) -> bool {
@@ -112,6 +117,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn and(a: f32x8, b: f32x8) -> f32x8 {
         a & b
+    }
+    #[inline(always)]
+    fn or(a: f32x8, b: f32x8) -> f32x8 {
+        a | b
     }
     #[inline(always)]
     fn any(mask: f32x8) -> bool {

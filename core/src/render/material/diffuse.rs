@@ -34,19 +34,29 @@ impl Lambertian<'_> {
     /// BRDF is: only a degenerate zero normal gets there).
     #[inline]
     pub(super) fn sample(&self, hit: &SurfaceHit, u: Vec2) -> Option<BsdfSample> {
-        let rho = self.albedo.filtered(hit.uv, hit.p, hit.footprint);
-        sample_cosine(
-            hit.n,
-            u,
-            |wi| {
-                if hit.n.dot(wi) > 0.0 { rho } else { Vec3::ZERO }
-            },
-        )
+        sample_lambertian(&self.albedo, hit, u)
     }
 
     pub(super) fn content(&self, out: &mut Feed<'_>) {
         out.texture(&self.albedo);
     }
+}
+
+/// [`Lambertian::sample`] from the albedo alone.
+#[inline(always)]
+pub(super) fn sample_lambertian(
+    albedo: &Texture<'_>,
+    hit: &SurfaceHit,
+    u: Vec2,
+) -> Option<BsdfSample> {
+    let rho = albedo.filtered(hit.uv, hit.p, hit.footprint);
+    sample_cosine(
+        hit.n,
+        u,
+        |wi| {
+            if hit.n.dot(wi) > 0.0 { rho } else { Vec3::ZERO }
+        },
+    )
 }
 
 /// The checks of a diffuse base under a lobe: its colour, then both

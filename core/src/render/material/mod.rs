@@ -78,6 +78,24 @@ pub struct SurfaceHit {
     pub footprint: Vec3,
 }
 
+impl SurfaceHit {
+    /// The sphere's outward unit normal at the point (`n` turned back for
+    /// a hit from inside).
+    ///
+    /// ```
+    /// use glam::{Vec2, Vec3};
+    /// use strata::render::SurfaceHit;
+    /// let inside = SurfaceHit { p: Vec3::Y, n: -Vec3::Y, front_face: false,
+    ///     uv: Vec2::ZERO, footprint: Vec3::ZERO };
+    /// assert_eq!(inside.outward(), Vec3::Y);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn outward(&self) -> Vec3 {
+        if self.front_face { self.n } else { -self.n }
+    }
+}
+
 /// How a sampled direction was chosen.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Lobe {
@@ -566,6 +584,11 @@ impl<'a> Material<'a> {
     #[inline]
     #[must_use]
     pub fn sample(&self, d: Vec3, hit: &SurfaceHit, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
+        // The Lambertian, the commonest material, without the family
+        // conversion.
+        if let Material::Lambertian { albedo } = self {
+            return diffuse::sample_lambertian(albedo, hit, u);
+        }
         match self.family() {
             Family::Specular(m) => m.sample(d, hit, u, u_lobe),
             Family::Diffuse(m) => m.sample(hit, u),

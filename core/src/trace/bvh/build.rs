@@ -14,6 +14,7 @@ use super::{
 };
 use crate::trace::Sphere;
 use crate::trace::lanes::f32x8;
+use core::cmp::Ordering;
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug)]
@@ -240,6 +241,50 @@ impl Builder<'_, '_> {
     }
 }
 
+/// How many times the rest's box surface a sphere's box must exceed to be
+/// kept out of the tree.
+const OUTLIER_RATIO: f32 = 64.0;
+
+/// Moves the outliers to the front of `ids` (hittable spheres) and returns
+/// their count, at most [`BVH_LEAF_MAX`], none when all fit one leaf: repeatedly, the largest sphere
+/// left (ties to the lowest index) while its box's surface is more than
+/// [`OUTLIER_RATIO`] times that of the box of all the others left. Such
+/// a sphere (a ground of radius 1000 under a scene 20 wide) would make
+/// every box above it huge and be entered by nearly every ray; kept out,
+/// it is tested once per ray, first, and the tree stays tight.
+fn pick_outliers(spheres: &[Sphere], ids: &mut [u32]) -> usize {
+    // A tree of one leaf tests its spheres in one kernel call already.
+    if ids.len() <= BVH_LEAF_MAX {
+        return 0;
+    }
+    let mut k = 0;
+    while k < BVH_LEAF_MAX.min(ids.len()) {
+        let radius = |id: u32| spheres[id as usize].radius;
+        let mut big = k;
+        for j in k + 1..ids.len() {
+            if radius(ids[j]) > radius(ids[big]) {
+                big = j;
+            }
+        }
+        let mut rest = Aabb::EMPTY;
+        for (j, &id) in ids.iter().enumerate().skip(k) {
+            if j != big {
+                rest.grow(&sphere_box(&spheres[id as usize]));
+            }
+        }
+        let area = sphere_box(&spheres[ids[big] as usize]).half_area();
+        // An empty rest has area 0: a lone sphere is an outlier, and the
+        // tree is then empty.
+        if area.partial_cmp(&(OUTLIER_RATIO * rest.half_area())) != Some(Ordering::Greater) {
+            break;
+        }
+        // Keep the others in their order (the tree's build depends on it).
+        ids[k..=big].rotate_right(1);
+        k += 1;
+    }
+    k
+}
+
 fn longest(ext: &[f32; 3]) -> usize {
     let mut axis = 0;
     for k in 1..3 {
@@ -316,6 +361,7 @@ impl<'a> Bvh<'a> {
                 m += 1;
             }
         }
+        let outliers = pick_outliers(spheres, &mut ids[..m]);
         let nodes = &mut nodes[..need.nodes];
         let mut b = Builder {
             spheres,
@@ -324,10 +370,10 @@ impl<'a> Bvh<'a> {
             used: 1,
             depth: 1,
         };
-        if m == 0 {
+        if m == outliers {
             b.nodes[0] = BvhNode8::EMPTY;
         } else {
-            b.node(0, 0, m, 1);
+            b.node(0, outliers, m, 1);
         }
         let (used, depth) = (b.used, b.depth);
         debug_assert!(used <= need.nodes && depth <= BVH_MAX_DEPTH);
@@ -351,6 +397,7 @@ impl<'a> Bvh<'a> {
             cz,
             r,
             ids,
+            outliers,
             len: n,
             used_nodes: used,
             depth,

@@ -235,6 +235,9 @@ pub struct Bvh<'a> {
     cz: &'a [f32],
     r: &'a [f32],
     ids: &'a [u32],
+    /// Lanes `0..outliers` hold the spheres kept out of the tree (tested
+    /// first by every query); the tree's leaves follow.
+    outliers: usize,
     len: usize,
     used_nodes: usize,
     depth: u32,
@@ -293,6 +296,32 @@ impl Bvh<'_> {
     #[inline]
     pub fn node_count(&self) -> usize {
         self.used_nodes
+    }
+
+    /// How many spheres were kept out of the tree and are tested first by
+    /// every query (at most 8): spheres whose box dwarfs the rest of the
+    /// scene's, such as a large ground sphere, which inside the tree
+    /// would be entered by nearly every ray.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::*;
+    /// let mut spheres: Vec<Sphere> =
+    ///     (0..20).map(|i| Sphere::new(Vec3::new(i as f32, 0.2, 0.0), 0.2)).collect();
+    /// spheres.push(Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0));
+    /// let size = bvh_storage_for(spheres.len());
+    /// let (mut nodes, mut lanes, mut ids) =
+    ///     (vec![BvhNode8::EMPTY; size.nodes], vec![0.0; size.lanes], vec![0; size.ids]);
+    /// let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+    /// assert_eq!(bvh.outliers(), 1);
+    /// let down = Ray::new(Vec3::new(0.5, 5.0, 3.0), -Vec3::Y);
+    /// assert_eq!(bvh.closest_hit(&down), closest_hit(&spheres, &down));
+    /// assert_eq!(bvh.closest_hit(&down).unwrap().sphere, 20);
+    /// ```
+    #[must_use]
+    #[inline]
+    pub fn outliers(&self) -> usize {
+        self.outliers
     }
 
     /// Node levels (at most [`BVH_MAX_DEPTH`]).

@@ -8,11 +8,16 @@ use crate::trace::lanes::{
     f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt, lanes_le, lanes_lt,
     lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits, mask_from_i32, mask_sign,
 };
-use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t};
+use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t, sphere_t_live};
 
 /// Traversal stack entries: every visited node pushes at most 8 and pops
-/// one, so `7 ·` [`BVH_MAX_DEPTH`] `+ 1` suffice.
-const STACK: usize = 7 * BVH_MAX_DEPTH as usize + 1;
+/// one, so `7 ·` [`BVH_MAX_DEPTH`] `+ 1` (183) suffice; rounded up to a
+/// power of two, so an index masked by [`STACK_MASK`] needs no bounds
+/// check (the mask never changes an index below the bound).
+const STACK: usize = (7 * BVH_MAX_DEPTH as usize + 1).next_power_of_two();
+
+/// `STACK − 1`.
+const STACK_MASK: usize = STACK - 1;
 
 /// Reusable traversal memory for [`Bvh`] queries: keep one per thread (or
 /// per tile) and pass it to the `_with` queries. It is zeroed once, when
@@ -126,17 +131,18 @@ struct LeafLanes<'a> {
 }
 
 impl LeafLanes<'_> {
-    /// The 8-wide kernel on the lanes from `start` (count of them valid):
-    /// `t` per lane, `+∞` for a miss or an unused lane.
+    /// The 8-wide kernel on the lanes from `start`: `t` per lane, `+∞` for
+    /// a miss. Lanes past the leaf's count hold other leaves' spheres: the
+    /// callers mask them out of their hit bits.
     #[inline(always)]
-    fn leaf_t(&self, start: usize, count: usize, ray: &Ray) -> f32x8 {
+    fn leaf_t(&self, entry: u32, start: usize, ray: &Ray) -> f32x8 {
         let end = start + 8;
         let load = |v: &[f32]| {
             let mut a = [0.0f32; 8];
             a.copy_from_slice(&v[start..end]);
             f32x8::new(a)
         };
-        let t = sphere_t(
+        sphere_t_live(
             f32x8::splat(ray.origin.x),
             f32x8::splat(ray.origin.y),
             f32x8::splat(ray.origin.z),
@@ -149,11 +155,25 @@ impl LeafLanes<'_> {
             load(self.r),
             f32x8::splat(ray.t_min),
             f32x8::splat(ray.t_max),
-        );
-        let used = lanes_lt(f32x8::new(LANE_INDEX), f32x8::splat(count as f32));
-        lanes_select(used, t, f32x8::splat(f32::INFINITY))
+            f32x8::new(LEAF_MASKS[(entry & 7) as usize]),
+        )
     }
 }
+
+/// The lane masks of leaves of 1 to 8 spheres (all ones: a NaN's bits).
+const LEAF_MASKS: [[f32; 8]; 8] = {
+    let mut m = [[0.0f32; 8]; 8];
+    let mut n = 0;
+    while n < 8 {
+        let mut k = 0;
+        while k <= n {
+            m[n][k] = f32::from_bits(u32::MAX);
+            k += 1;
+        }
+        n += 1;
+    }
+    m
+};
 
 /// Per-lane slab test: entry and exit `t`, clipped to `[t_min, t_far]`.
 /// Min and max by compare and select, the same on every SIMD level.
@@ -181,7 +201,11 @@ fn slabs(
     (tn, tf)
 }
 
-const LANE_INDEX: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+/// The lane bits of a leaf reference's spheres.
+#[inline(always)]
+fn leaf_lanes(entry: u32) -> u32 {
+    (2u32 << (entry & 7)) - 1
+}
 
 impl Bvh<'_> {
     /// The sphere lanes, each cut to the same width, so one bounds check
@@ -203,7 +227,7 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
+        let mut best = self.closest_outlier(ray);
         self.closest_from(0, ray, &mut best, &mut [(0, 0.0); STACK]);
         best
     }
@@ -212,13 +236,54 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
+        let mut best = self.closest_outlier(ray);
         self.closest_from(0, ray, &mut best, &mut stack.closest);
         best
     }
 
+    /// The closest hit among the spheres kept out of the tree, one at a
+    /// time with the scalar kernel (the same bits as the 8-wide one).
+    #[inline(always)]
+    fn closest_outlier(&self, ray: &Ray) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        for k in 0..self.outliers {
+            let t = self.outlier_t(k, ray);
+            if t < f32::INFINITY {
+                let id = self.ids[k];
+                if best.is_none_or(|b| t < b.t || (t == b.t && id < b.sphere)) {
+                    best = Some(Hit { t, sphere: id });
+                }
+            }
+        }
+        best
+    }
+
+    /// The kernel's `t` for outlier `k` (`+∞` for a miss).
+    #[inline(always)]
+    fn outlier_t(&self, k: usize, ray: &Ray) -> f32 {
+        sphere_t(
+            ray.origin.x,
+            ray.origin.y,
+            ray.origin.z,
+            ray.dir.x,
+            ray.dir.y,
+            ray.dir.z,
+            self.cx[k],
+            self.cy[k],
+            self.cz[k],
+            self.r[k],
+            ray.t_min,
+            ray.t_max,
+        )
+    }
+
     /// Closest-hit traversal of the subtree at `root` (a node index or a
     /// leaf reference), improving `best`.
+    ///
+    /// The nearest child a node's test enters is visited next without a
+    /// trip through the stack; the others are inserted into the stack's
+    /// top, far to near, so they pop nearest first. Entries popped beyond
+    /// the closest hit so far are skipped.
     fn closest_from(
         &self,
         root: u32,
@@ -229,69 +294,82 @@ impl Bvh<'_> {
         let slab = SlabRay::new(ray);
         let lanes = self.lanes();
         let ids = self.ids;
-        stack[0] = (root, f32::NEG_INFINITY);
-        let mut sp = 1;
         // The closest t so far (t_max before any hit) and its sphere:
         // children entered beyond it are skipped, entered at it are kept.
         let (mut far, mut id_best, mut found) = match *best {
             Some(h) => (h.t, h.sphere, true),
             None => (ray.t_max, u32::MAX, false),
         };
-        while sp > 0 {
-            sp -= 1;
-            let (entry, t_enter) = stack[sp];
-            if t_enter > far {
-                continue;
-            }
+        let mut sp = 0usize;
+        let mut entry = root;
+        'visit: loop {
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
-                let count = (entry & 7) as usize + 1;
-                let t = lanes.leaf_t(start, count, ray);
-                // Only lanes that hit at or before the closest so far can
-                // be taken: most leaves have none.
+                let t = lanes.leaf_t(entry, start, ray);
+                // Only the leaf's lanes that hit at or before the closest
+                // so far can be taken: most leaves have none.
                 let inf = f32x8::splat(f32::INFINITY);
-                let mut hits = lanes_bitmask(lanes_le(t, f32x8::splat(far)) & lanes_lt(t, inf));
-                if hits == 0 {
-                    continue;
-                }
-                let ts = t.to_array();
-                while hits != 0 {
-                    let lane = hits.trailing_zeros() as usize;
-                    hits &= hits - 1;
-                    let (t, id) = (ts[lane], ids[start + lane]);
-                    // Before any hit `far` is t_max, which every kernel t
-                    // is below.
-                    if t < far || (t == far && id < id_best) {
-                        (far, id_best, found) = (t, id, true);
+                let mut hits = lanes_bitmask(lanes_le(t, f32x8::splat(far)) & lanes_lt(t, inf))
+                    & leaf_lanes(entry);
+                if hits != 0 {
+                    let ts = t.to_array();
+                    while hits != 0 {
+                        let lane = hits.trailing_zeros() as usize;
+                        hits &= hits - 1;
+                        let (t, id) = (ts[lane], ids[start + lane]);
+                        // Before any hit `far` is t_max, which every
+                        // kernel t is below.
+                        if t < far || (t == far && id < id_best) {
+                            (far, id_best, found) = (t, id, true);
+                        }
                     }
                 }
-                continue;
+            } else {
+                let node = &self.nodes[entry as usize];
+                let (mut bits, tn) = slab.test(node, ray.t_min, far);
+                if bits != 0 {
+                    let tn = tn.to_array();
+                    let lane = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if bits == 0 {
+                        // One child: nothing to order.
+                        entry = node.child[lane];
+                        continue 'visit;
+                    }
+                    // Two or more: sort them into the stack's top, then
+                    // take the nearest off it.
+                    let base = sp;
+                    stack[sp & STACK_MASK] = (node.child[lane], tn[lane]);
+                    sp += 1;
+                    while bits != 0 {
+                        let lane = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let item = (node.child[lane], tn[lane]);
+                        let mut j = sp;
+                        while j > base && stack[(j - 1) & STACK_MASK].1 < item.1 {
+                            stack[j & STACK_MASK] = stack[(j - 1) & STACK_MASK];
+                            j -= 1;
+                        }
+                        stack[j & STACK_MASK] = item;
+                        sp += 1;
+                    }
+                    sp -= 1;
+                    entry = stack[sp & STACK_MASK].0;
+                    continue 'visit;
+                }
             }
-            let node = &self.nodes[entry as usize];
-            let (mut bits, tn) = slab.test(node, ray.t_min, far);
-            if bits == 0 {
-                continue;
-            }
-            let tn = tn.to_array();
-            if bits & (bits - 1) == 0 {
-                // One child: nothing to order.
-                let lane = bits.trailing_zeros() as usize;
-                stack[sp] = (node.child[lane], tn[lane]);
-                sp += 1;
-                continue;
-            }
-            // Push far to near, so the nearest child is popped first.
-            let mut order = [(0.0f32, 0u32); 8];
-            let mut k = 0;
-            while bits != 0 {
-                let lane = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                insert_far_to_near(&mut order, k, (tn[lane], node.child[lane]));
-                k += 1;
-            }
-            for &(t, child) in &order[..k] {
-                stack[sp] = (child, t);
-                sp += 1;
+            // The next stacked child not beyond the closest hit.
+            loop {
+                if sp == 0 {
+                    break 'visit;
+                }
+                sp -= 1;
+                let (e, t_enter) = stack[sp & STACK_MASK];
+                // A NaN entry distance cannot rule the child out: visit it.
+                if t_enter.partial_cmp(&far) != Some(core::cmp::Ordering::Greater) {
+                    entry = e;
+                    continue 'visit;
+                }
             }
         }
         if found {
@@ -318,33 +396,44 @@ impl Bvh<'_> {
     }
 
     fn any_from(&self, ray: &Ray, stack: &mut [u32; STACK]) -> bool {
-        let slab = SlabRay::new(ray);
-        let lanes = self.lanes();
-        stack[0] = 0;
-        let mut sp = 1;
-
-        while sp > 0 {
-            sp -= 1;
-            let entry = stack[sp];
-            if entry & LEAF_BIT != 0 {
-                let start = ((entry & !LEAF_BIT) >> 3) as usize;
-                let count = (entry & 7) as usize + 1;
-                let t = lanes.leaf_t(start, count, ray);
-                if lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) != 0 {
-                    return true;
-                }
-                continue;
-            }
-            let node = &self.nodes[entry as usize];
-            let (mut bits, _) = slab.test(node, ray.t_min, ray.t_max);
-            while bits != 0 {
-                let lane = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                stack[sp] = node.child[lane];
-                sp += 1;
+        for k in 0..self.outliers {
+            if self.outlier_t(k, ray) < f32::INFINITY {
+                return true;
             }
         }
-        false
+        let slab = SlabRay::new(ray);
+        let lanes = self.lanes();
+        let mut sp = 0usize;
+        let mut entry = 0u32;
+        loop {
+            if entry & LEAF_BIT != 0 {
+                let start = ((entry & !LEAF_BIT) >> 3) as usize;
+                let t = lanes.leaf_t(entry, start, ray);
+                if lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) & leaf_lanes(entry) != 0
+                {
+                    return true;
+                }
+            } else {
+                let node = &self.nodes[entry as usize];
+                let (mut bits, _) = slab.test(node, ray.t_min, ray.t_max);
+                if bits != 0 {
+                    // Visit the first child now, stack the rest.
+                    entry = node.child[bits.trailing_zeros() as usize];
+                    bits &= bits - 1;
+                    while bits != 0 {
+                        stack[sp & STACK_MASK] = node.child[bits.trailing_zeros() as usize];
+                        sp += 1;
+                        bits &= bits - 1;
+                    }
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            entry = stack[sp & STACK_MASK];
+        }
     }
 
     /// The closest hits of a packet, traversed as a packet: one box test
@@ -419,6 +508,13 @@ impl Bvh<'_> {
         let slab_lo = [lo[0] + s, lo[1] + s, lo[2] + s];
         let slab_hi = [lo[0] - s, lo[1] - s, lo[2] - s];
         let inv = [inv8(packet.dx), inv8(packet.dy), inv8(packet.dz)];
+        self.packet_lanes(
+            packet,
+            0..self.outliers,
+            mask_from_bits(active as u8),
+            &mut bt,
+            &mut bi,
+        );
         stack[0] = (0, active as u8);
         let mut sp = 1;
 
@@ -450,29 +546,7 @@ impl Bvh<'_> {
             if entry & LEAF_BIT != 0 {
                 let start = ((entry & !LEAF_BIT) >> 3) as usize;
                 let count = (entry & 7) as usize + 1;
-                for k in start..start + count {
-                    let t = sphere_t(
-                        packet.ox,
-                        packet.oy,
-                        packet.oz,
-                        packet.dx,
-                        packet.dy,
-                        packet.dz,
-                        f32x8::splat(self.cx[k]),
-                        f32x8::splat(self.cy[k]),
-                        f32x8::splat(self.cz[k]),
-                        f32x8::splat(self.r[k]),
-                        packet.t_min,
-                        packet.t_max,
-                    );
-                    let id = i32x8::splat(self.ids[k] as i32);
-                    let hit = lane_on & lanes_lt(t, inf);
-                    let id_lower =
-                        mask_from_i32(lanes_lt_i32(id, bi) | lanes_eq_i32(bi, i32x8::splat(-1)));
-                    let take = hit & (lanes_lt(t, bt) | (lanes_eq(t, bt) & id_lower));
-                    bt = lanes_select(take, t, bt);
-                    bi = lanes_select_i32(take, id, bi);
-                }
+                self.packet_lanes(packet, start..start + count, lane_on, &mut bt, &mut bi);
                 continue;
             }
             let node = &self.nodes[entry as usize];
@@ -515,6 +589,44 @@ impl Bvh<'_> {
         let take = lanes_lt(bt, hits.t) & mask_from_bits(active as u8);
         hits.t = lanes_select(take, bt, hits.t);
         hits.sphere = lanes_select_i32(take, bi, hits.sphere);
+    }
+
+    /// The packet kernel on sphere lanes `lanes`, one at a time, for the
+    /// rays of `lane_on`: improves each ray's best `t` and sphere (ties to
+    /// the lower index; −1 for none yet).
+    #[inline(always)]
+    fn packet_lanes(
+        &self,
+        packet: &RayPacket8,
+        lanes: core::ops::Range<usize>,
+        lane_on: f32x8,
+        bt: &mut f32x8,
+        bi: &mut i32x8,
+    ) {
+        let inf = f32x8::splat(f32::INFINITY);
+        for k in lanes {
+            let t = sphere_t(
+                packet.ox,
+                packet.oy,
+                packet.oz,
+                packet.dx,
+                packet.dy,
+                packet.dz,
+                f32x8::splat(self.cx[k]),
+                f32x8::splat(self.cy[k]),
+                f32x8::splat(self.cz[k]),
+                f32x8::splat(self.r[k]),
+                packet.t_min,
+                packet.t_max,
+            );
+            let id = i32x8::splat(self.ids[k] as i32);
+            let hit = lane_on & lanes_lt(t, inf);
+            let id_lower =
+                mask_from_i32(lanes_lt_i32(id, *bi) | lanes_eq_i32(*bi, i32x8::splat(-1)));
+            let take = hit & (lanes_lt(t, *bt) | (lanes_eq(t, *bt) & id_lower));
+            *bt = lanes_select(take, t, *bt);
+            *bi = lanes_select_i32(take, id, *bi);
+        }
     }
 
     /// Which rays of a packet hit any sphere: bit `k` for active lane `k`,
