@@ -227,25 +227,28 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        let mut best = self.closest_outlier(ray);
+        let mut best = None;
         self.closest_from(0, ray, &mut best, &mut [(0, 0.0); STACK]);
-        best
+        self.closest_outlier(ray, best)
     }
 
     /// [`Bvh::closest_hit`] on the caller's reusable `stack`.
     #[must_use]
     #[inline]
     pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
-        let mut best = self.closest_outlier(ray);
+        // The tree first, the outliers after: the tree's walk then does
+        // not wait on an outlier's square root and divide, which the
+        // processor overlaps with it (a ground sphere's hit would prune
+        // little of the tree anyway). Ties go to the lower index either way.
+        let mut best = None;
         self.closest_from(0, ray, &mut best, &mut stack.closest);
-        best
+        self.closest_outlier(ray, best)
     }
 
     /// The closest hit among the spheres kept out of the tree, one at a
     /// time with the scalar kernel (the same bits as the 8-wide one).
     #[inline(always)]
-    fn closest_outlier(&self, ray: &Ray) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
+    fn closest_outlier(&self, ray: &Ray, mut best: Option<Hit>) -> Option<Hit> {
         for k in 0..self.outliers {
             let t = self.outlier_t(k, ray);
             if t < f32::INFINITY {
