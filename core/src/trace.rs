@@ -378,7 +378,9 @@ pub(crate) fn sphere_roots<L: Lanes>(k: Quadratic<L>, t_min: L, t_max: L) -> L {
     )
 }
 
-/// The whole kernel, skipping stage two when no lane can hit.
+/// The whole kernel, skipping stage two when no lane's quadratic has
+/// real roots. (Brute force over chunks: most chunks miss outright, and a
+/// finer test, as in [`sphere_t_live`], costs more than it saves there.)
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sphere_t<L: Lanes>(
@@ -396,7 +398,7 @@ pub(crate) fn sphere_t<L: Lanes>(
     t_max: L,
 ) -> L {
     let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
-    if L::any(may_hit(&k, t_min)) {
+    if L::any(k.valid) {
         sphere_roots(k, t_min, t_max)
     } else {
         L::splat(f32::INFINITY)
@@ -404,8 +406,9 @@ pub(crate) fn sphere_t<L: Lanes>(
 }
 
 /// [`sphere_t`] for a caller that reads only the `live` lanes: stage two
-/// is skipped when none of them can hit (the other lanes' `t` is then
-/// unspecified).
+/// is skipped when none of them can hit by [`may_hit`] (the other lanes'
+/// `t` is then unspecified). For BVH leaves and outliers, whose spheres
+/// are near the ray, so that the finer test often pays.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sphere_t_live<L: Lanes>(
@@ -705,7 +708,7 @@ mod tests {
             } else {
                 f32::INFINITY
             };
-            let got = sphere_t(
+            let got = sphere_t_live(
                 args.0,
                 args.1,
                 args.2,
@@ -718,6 +721,7 @@ mod tests {
                 args.9,
                 t_min,
                 f32::INFINITY,
+                true,
             );
             assert_eq!(got.to_bits(), want.to_bits(), "ray {k}");
             skipped += usize::from(q.valid && !may_hit(&q, t_min));

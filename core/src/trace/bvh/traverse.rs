@@ -264,7 +264,7 @@ impl Bvh<'_> {
     /// The kernel's `t` for outlier `k` (`+∞` for a miss).
     #[inline(always)]
     fn outlier_t(&self, k: usize, ray: &Ray) -> f32 {
-        sphere_t(
+        sphere_t_live(
             ray.origin.x,
             ray.origin.y,
             ray.origin.z,
@@ -277,6 +277,7 @@ impl Bvh<'_> {
             self.r[k],
             ray.t_min,
             ray.t_max,
+            true,
         )
     }
 
