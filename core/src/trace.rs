@@ -378,9 +378,10 @@ pub(crate) fn sphere_roots<L: Lanes>(k: Quadratic<L>, t_min: L, t_max: L) -> L {
     )
 }
 
-/// The whole kernel, skipping stage two when no lane's quadratic has
-/// real roots. (Brute force over chunks: most chunks miss outright, and a
-/// finer test, as in [`sphere_t_live`], costs more than it saves there.)
+/// The whole kernel, skipping stage two when no lane can hit: first by
+/// the cheap root test alone (brute force over chunks: most chunks miss
+/// outright), then by [`may_hit`] (a chunk that holds the sphere a ray
+/// leaves).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sphere_t<L: Lanes>(
@@ -398,7 +399,7 @@ pub(crate) fn sphere_t<L: Lanes>(
     t_max: L,
 ) -> L {
     let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
-    if L::any(k.valid) {
+    if L::any(k.valid) && L::any(may_hit(&k, t_min)) {
         sphere_roots(k, t_min, t_max)
     } else {
         L::splat(f32::INFINITY)
@@ -724,6 +725,21 @@ mod tests {
                 true,
             );
             assert_eq!(got.to_bits(), want.to_bits(), "ray {k}");
+            let brute = sphere_t(
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                args.5,
+                args.6,
+                args.7,
+                args.8,
+                args.9,
+                t_min,
+                f32::INFINITY,
+            );
+            assert_eq!(brute.to_bits(), want.to_bits(), "ray {k}");
             skipped += usize::from(q.valid && !may_hit(&q, t_min));
         }
         // The case it is for is common: about half the rays leaving outward.
