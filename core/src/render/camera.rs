@@ -73,6 +73,8 @@ pub struct Camera {
     /// Lens axes scaled by the lens radius.
     lens_u: Vec3,
     lens_v: Vec3,
+    /// A lens of radius 0: every ray leaves `origin`.
+    pinhole: bool,
     size: UVec2,
 }
 
@@ -144,6 +146,7 @@ impl Camera {
             dv,
             lens_u: u * lens_radius,
             lens_v: v * lens_radius,
+            pinhole: lens_radius == 0.0,
             size: UVec2::new(width, height),
         })
     }
@@ -157,16 +160,48 @@ impl Camera {
 
     /// The ray through `pixel` at `offset ∈ [0, 1)²` inside it, leaving the
     /// lens at the concentric-disk point of `lens ∈ [0, 1)²` (ignored for a
-    /// pinhole, where the lens has radius 0). Unit direction, `t ∈ (0, ∞)`.
+    /// pinhole, where the lens has radius 0: its rays leave the camera's
+    /// position exactly, and the disk point is not computed). Unit
+    /// direction, `t ∈ (0, ∞)`.
     #[inline(always)]
     #[must_use]
     pub fn ray(&self, pixel: UVec2, offset: Vec2, lens: Vec2) -> Ray {
         let target = self.corner
             + self.du * (pixel.x as f32 + offset.x)
             + self.dv * (pixel.y as f32 + offset.y);
-        let d = sample_concentric_disk(lens);
-        let origin = self.origin + self.lens_u * d.x + self.lens_v * d.y;
+        let origin = if self.pinhole {
+            self.origin
+        } else {
+            let d = sample_concentric_disk(lens);
+            self.origin + self.lens_u * d.x + self.lens_v * d.y
+        };
         Ray::new(origin, crate::float::normalize(target - origin))
+    }
+
+    /// Whether the lens has radius 0 (a defocus angle of 0), so that
+    /// [`Camera::ray`] ignores its lens sample: a renderer can skip making
+    /// it.
+    ///
+    /// ```
+    /// use glam::{UVec2, Vec2, Vec3};
+    /// use strata::render::{Camera, CameraDesc};
+    /// let mut desc = CameraDesc {
+    ///     look_from: Vec3::new(0.0, 1.0, 4.0), look_at: Vec3::ZERO, up: Vec3::Y,
+    ///     vfov_deg: 40.0, defocus_angle_deg: 0.0, focus_dist: 4.0,
+    /// };
+    /// let pinhole = Camera::new(&desc, 64, 48).unwrap();
+    /// assert!(pinhole.is_pinhole());
+    /// let (px, offset) = (UVec2::new(10, 20), Vec2::splat(0.5));
+    /// let ray = pinhole.ray(px, offset, Vec2::new(0.9, 0.1));
+    /// assert_eq!(ray, pinhole.ray(px, offset, Vec2::ZERO));
+    /// assert_eq!(ray.origin, desc.look_from);
+    /// desc.defocus_angle_deg = 2.0;
+    /// assert!(!Camera::new(&desc, 64, 48).unwrap().is_pinhole());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn is_pinhole(&self) -> bool {
+        self.pinhole
     }
 }
 

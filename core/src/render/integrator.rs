@@ -359,7 +359,13 @@ pub(crate) fn camera_ray<S: Sampler>(
 ) -> CameraSample {
     sampler.start_pixel_sample(pixel, index);
     let f = filter.pixel_sample(sampler.pixel_2d());
-    let lens = sampler.next_2d();
+    // A pinhole ignores the lens sample: skip its dimensions, not make them.
+    let lens = if camera.is_pinhole() {
+        sampler.skip_2d();
+        Vec2::ZERO
+    } else {
+        sampler.next_2d()
+    };
     CameraSample {
         ray: camera.ray(pixel, f.offset, lens),
         offset: f.offset,
