@@ -135,7 +135,8 @@ impl PixelSum {
         for (s, x) in self.sum.iter_mut().zip(v.to_array()) {
             *s = s.saturating_add(to_fixed(x));
         }
-        self.weight = self.weight.saturating_add(to_fixed(w));
+        // to_fixed(1.0), known here.
+        self.weight = self.weight.saturating_add(FILM_SCALE as i64);
         self.samples = self.samples.saturating_add(1);
     }
 
