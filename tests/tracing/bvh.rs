@@ -1,7 +1,8 @@
 //! The BVH only skips work: on millions of random rays over random scenes
 //! (1 to 10 000 spheres, coincident and overlapping spheres, radius 0 and
-//! 1000, all centres at one point, rays from inside, grazing and tangent
-//! rays), its closest and any hits equal the brute-force kernels bit for
+//! 1000, all centres at one point, spheres kept out of the tree, rays
+//! from inside, leaving surfaces, grazing and tangent, with NaN parts or
+//! odd ranges), its closest and any hits equal the brute-force kernels bit for
 //! bit, for one ray and for packets (traversed as packets, per ray, and
 //! mixed). Storage too small is an error; degenerate input builds within
 //! the depth bound.
@@ -103,7 +104,7 @@ fn scenes() -> Vec<(String, Vec<Sphere>)> {
     // The cover layout.
     out.push(("cover".into(), strata_runner::scenes::cover_spheres()));
     // Two outliers kept out of the tree (a ground, and a huge sphere far
-    // above), around small spheres, one of them tangent to the ground.
+    // above), around small spheres, one of them a hair above the ground.
     let mut outliers: Vec<Sphere> = (0..200)
         .map(|_| {
             let c = Vec3::new(
@@ -402,4 +403,135 @@ fn renders_are_identical_with_and_without_the_bvh() {
             assert_eq!(on.stats.rays, off.stats.rays, "{name}");
         }
     }
+}
+
+/// Every query of `bvh` on `rays` equals brute force over `spheres`: one
+/// ray (fresh and caller stacks), packets with every fallback, any hits.
+fn assert_matches_brute_force(name: &str, spheres: &[Sphere], bvh: &Bvh<'_>, rays: &[Ray]) {
+    let bits = |h: Option<strata::trace::Hit>| h.map(|h| (h.sphere, h.t.to_bits()));
+    let mut stack = BvhStack::new();
+    for (k, ray) in rays.iter().enumerate() {
+        let want = closest_hit(spheres, ray);
+        assert_eq!(
+            bits(bvh.closest_hit(ray)),
+            bits(want),
+            "{name} ray {k}: {ray:?}"
+        );
+        assert_eq!(
+            bits(bvh.closest_hit_with(ray, &mut stack)),
+            bits(want),
+            "{name} {k}"
+        );
+        assert_eq!(
+            bvh.any_hit(ray),
+            any_hit(spheres, ray),
+            "{name} ray {k}: {ray:?}"
+        );
+    }
+    for chunk in rays.chunks(8) {
+        let packet = RayPacket8::from_rays(chunk);
+        for fallback in [0, 2, 8] {
+            let mut hits = HitPacket8::NONE;
+            bvh.with_packet_fallback(fallback)
+                .closest_hit_x8(&packet, &mut hits);
+            for (lane, ray) in chunk.iter().enumerate() {
+                let want = closest_hit(spheres, ray);
+                assert_eq!(bits(hits.hit(lane)), bits(want), "{name} x8/{fallback}");
+            }
+        }
+        let want = chunk
+            .iter()
+            .enumerate()
+            .fold(0, |m, (lane, r)| m | (any_hit(spheres, r) as u32) << lane);
+        assert_eq!(bvh.any_hit_x8(&packet), want, "{name}");
+    }
+}
+
+/// Rays leaving surfaces (the spawn rule's origins, outward and inward,
+/// in every direction: the rays the kernel's `may_hit` test skips work
+/// for) and rays with NaN parts or unusual ranges (`t_min` of −0.0,
+/// negative or NaN, `t_max` NaN) give the brute-force answers.
+#[test]
+fn rays_leaving_surfaces_and_odd_ranges_match_brute_force() {
+    let mut rng = Pcg32::new(23, 5);
+    for (name, spheres) in scenes().into_iter().filter(|(_, s)| s.len() <= 1000) {
+        let hittable: Vec<Sphere> = spheres.iter().copied().filter(|s| s.radius > 0.0).collect();
+        if hittable.is_empty() {
+            continue;
+        }
+        let mut store = BvhBuffers::new(spheres.len());
+        let bvh = store.build(&spheres);
+        let rays: Vec<Ray> = (0..24_000)
+            .map(|k| {
+                let s = hittable[(rng.next_u32() as usize) % hittable.len()];
+                let n = unit(&mut rng);
+                let o = s.spawn_origin(s.center + n * s.radius, k % 2 == 0);
+                let ray = Ray::new(o, unit(&mut rng));
+                match k % 12 {
+                    0 => ray.with_range(-0.0, f32::INFINITY),
+                    1 => ray.with_range(f32::NAN, f32::INFINITY),
+                    2 => ray.with_range(0.0, f32::NAN),
+                    3 => ray.with_range(-range(&mut rng, 0.0, 2.0), f32::INFINITY),
+                    4 => Ray::new(Vec3::new(f32::NAN, o.y, o.z), ray.dir),
+                    5 => Ray::new(o, Vec3::new(ray.dir.x, f32::NAN, ray.dir.z)),
+                    _ => ray,
+                }
+            })
+            .collect();
+        assert_matches_brute_force(&name, &spheres, &bvh, &rays);
+    }
+}
+
+/// An outlier and a tree sphere hit at exactly the same `t` (a ground of
+/// radius 1000 and a unit sphere touching it from above, both reached at
+/// `t = 5` along −z): the lower index wins, whichever of the two it is.
+#[test]
+fn ties_between_an_outlier_and_the_tree_go_to_the_lowest_index() {
+    let ground = Sphere::new(Vec3::new(0.0, 0.0, -1005.0), 1000.0);
+    let ball = Sphere::new(Vec3::new(0.0, 0.0, -6.0), 1.0);
+    let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+    assert_eq!(strata::trace::intersect_sphere(&ground, &ray), Some(5.0));
+    assert_eq!(strata::trace::intersect_sphere(&ball, &ray), Some(5.0));
+    let others = (0..20).map(|i| Sphere::new(Vec3::new(i as f32 - 10.0, 3.0, -8.0), 0.3));
+    for ground_first in [true, false] {
+        let mut spheres: Vec<Sphere> = others.clone().collect();
+        let (g, b) = if ground_first { (4, 11) } else { (11, 4) };
+        spheres.insert(g.min(b), if ground_first { ground } else { ball });
+        spheres.insert(g.max(b), if ground_first { ball } else { ground });
+        let mut store = BvhBuffers::new(spheres.len());
+        let bvh = store.build(&spheres);
+        assert_eq!(bvh.outliers(), 1);
+        let want = closest_hit(&spheres, &ray).unwrap();
+        assert_eq!((want.sphere, want.t), (4, 5.0));
+        assert_matches_brute_force("tie", &spheres, &bvh, &[ray; 8]);
+    }
+}
+
+/// More than eight spheres that dwarf the rest: eight are kept out (the
+/// cap), and every query still equals brute force.
+#[test]
+fn at_most_eight_outliers() {
+    let mut rng = Pcg32::new(31, 1);
+    let mut spheres: Vec<Sphere> = (0..60)
+        .map(|_| {
+            let c = Vec3::new(
+                range(&mut rng, -3.0, 3.0),
+                range(&mut rng, -3.0, 3.0),
+                range(&mut rng, -3.0, 3.0),
+            );
+            Sphere::new(c, range(&mut rng, 0.05, 0.2))
+        })
+        .collect();
+    // Twelve giants far apart, each far larger than all before it.
+    for k in 0..12 {
+        let r = 1e3 * 20f32.powi(k);
+        let dir = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X][k as usize % 4];
+        spheres.insert(5 * k as usize, Sphere::new(dir * (r + 10.0), r));
+    }
+    let mut store = BvhBuffers::new(spheres.len());
+    let bvh = store.build(&spheres);
+    assert_eq!(bvh.outliers(), 8);
+    assert!(bvh.built_from(&spheres));
+    let rays = rays(&spheres, 20_000, &mut rng);
+    assert_matches_brute_force("giants", &spheres, &bvh, &rays);
 }

@@ -161,8 +161,8 @@ impl Camera {
     /// The ray through `pixel` at `offset ∈ [0, 1)²` inside it, leaving the
     /// lens at the concentric-disk point of `lens ∈ [0, 1)²` (ignored for a
     /// pinhole, where the lens has radius 0: its rays leave the camera's
-    /// position exactly, and the disk point is not computed). Unit
-    /// direction, `t ∈ (0, ∞)`.
+    /// position exactly, a `−0.0` coordinate included, and the disk point
+    /// is not computed). Unit direction, `t ∈ (0, ∞)`.
     #[inline(always)]
     #[must_use]
     pub fn ray(&self, pixel: UVec2, offset: Vec2, lens: Vec2) -> Ray {
@@ -194,7 +194,8 @@ impl Camera {
     /// let (px, offset) = (UVec2::new(10, 20), Vec2::splat(0.5));
     /// let ray = pinhole.ray(px, offset, Vec2::new(0.9, 0.1));
     /// assert_eq!(ray, pinhole.ray(px, offset, Vec2::ZERO));
-    /// assert_eq!(ray.origin, desc.look_from);
+    /// let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+    /// assert_eq!(bits(ray.origin), bits(desc.look_from));
     /// desc.defocus_angle_deg = 2.0;
     /// assert!(!Camera::new(&desc, 64, 48).unwrap().is_pinhole());
     /// ```

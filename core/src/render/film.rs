@@ -45,10 +45,10 @@ pub const MAX_SAMPLE_VALUE: f32 = 65_536.0;
 
 /// `x` in film units: `round(clamp(x) · 2²⁴)`, halves away from zero (as
 /// `roundf`), exact and the same on every CPU: the scaling is by a power
-/// of two, `as i64` truncates, and `y − trunc(y)` is exact for an `f32`
-/// `y` (both are `f32`s of the same binade or below), so the comparison
-/// with ½ decides the rounding exactly. (Every sample of the film goes
-/// through it; `libm::roundf` is a software routine.) NaN is never passed (the film drops it first).
+/// of two, and `y ± ½` taken in `f64` is exact wherever it decides the
+/// result, so the truncating cast rounds (see the body). (Every sample of
+/// the film goes through it; `libm::roundf` is a software routine.) NaN
+/// is never passed (the film drops it first).
 #[inline]
 #[must_use]
 pub(crate) fn to_fixed(x: f32) -> i64 {
@@ -119,9 +119,8 @@ impl PixelSum {
     }
 
     /// Adds `l` with weight `w`, which must be 1 (the box's, given at run
-    /// time: the four roundings of `l` and `w` are then one vector
-    /// operation), leaving `own_minus_sum`: the own sums move with the
-    /// sums.
+    /// time: the weight's film units are then a constant), leaving
+    /// `own_minus_sum`: the own sums move with the sums.
     #[inline]
     pub(crate) fn add_unit(&mut self, l: Vec3, w: f32) {
         debug_assert!(w == 1.0);

@@ -31,7 +31,7 @@ impl Lambertian<'_> {
 
     /// A cosine sample, whose weight `f cos θ / pdf` is the albedo itself:
     /// taken as it is, not through `ρ/π · π` (0 below the surface, as the
-    /// BRDF is: only a degenerate zero normal gets there).
+    /// BRDF is: only a degenerate normal, zero or NaN, gets there).
     #[inline]
     pub(super) fn sample(&self, hit: &SurfaceHit, u: Vec2) -> Option<BsdfSample> {
         sample_lambertian(&self.albedo, hit, u)

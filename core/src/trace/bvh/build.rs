@@ -251,7 +251,7 @@ const OUTLIER_RATIO: f32 = 64.0;
 /// [`OUTLIER_RATIO`] times that of the box of all the others left. Such
 /// a sphere (a ground of radius 1000 under a scene 20 wide) would make
 /// every box above it huge and be entered by nearly every ray; kept out,
-/// it is tested once per ray, first, and the tree stays tight.
+/// it is tested once per ray on its own, and the tree stays tight.
 fn pick_outliers(spheres: &[Sphere], ids: &mut [u32]) -> usize {
     // A tree of one leaf tests its spheres in one kernel call already.
     if ids.len() <= BVH_LEAF_MAX {
@@ -273,8 +273,8 @@ fn pick_outliers(spheres: &[Sphere], ids: &mut [u32]) -> usize {
             }
         }
         let area = sphere_box(&spheres[ids[big] as usize]).half_area();
-        // An empty rest has area 0: a lone sphere is an outlier, and the
-        // tree is then empty.
+        // More than 8 spheres and at most 8 outliers: the rest is never
+        // empty, and the tree never is.
         if area.partial_cmp(&(OUTLIER_RATIO * rest.half_area())) != Some(Ordering::Greater) {
             break;
         }

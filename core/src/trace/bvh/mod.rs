@@ -236,7 +236,7 @@ pub struct Bvh<'a> {
     r: &'a [f32],
     ids: &'a [u32],
     /// Lanes `0..outliers` hold the spheres kept out of the tree (tested
-    /// first by every query); the tree's leaves follow.
+    /// on their own by every query); the tree's leaves follow.
     outliers: usize,
     len: usize,
     used_nodes: usize,
@@ -298,8 +298,10 @@ impl Bvh<'_> {
         self.used_nodes
     }
 
-    /// How many spheres were kept out of the tree and are tested first by
-    /// every query (at most 8): spheres whose box dwarfs the rest of the
+    /// How many spheres were kept out of the tree and are tested on their
+    /// own by every query (at most 8; after the tree for closest hits, so
+    /// the walk need not wait for them, first for any hit, where they
+    /// often end the query): spheres whose box dwarfs the rest of the
     /// scene's, such as a large ground sphere, which inside the tree
     /// would be entered by nearly every ray.
     ///

@@ -10,11 +10,14 @@ use crate::trace::lanes::{
 };
 use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t, sphere_t_live};
 
-/// Traversal stack entries: every visited node pushes at most 8 and pops
-/// one, so `7 ·` [`BVH_MAX_DEPTH`] `+ 1` (183) suffice; rounded up to a
-/// power of two, so an index masked by [`STACK_MASK`] needs no bounds
-/// check (the mask never changes an index below the bound).
+/// Traversal stack entries: the stack holds the unvisited siblings along
+/// the current path, at most 7 a level and 8 while a node's children are
+/// sorted in, so `7 · (`[`BVH_MAX_DEPTH`]` − 1) + 8` (183) suffice;
+/// rounded up to a power of two, so an index masked by [`STACK_MASK`]
+/// needs no bounds check (the mask never changes an index below the
+/// bound, which the assertion below keeps).
 const STACK: usize = (7 * BVH_MAX_DEPTH as usize + 1).next_power_of_two();
+const _: () = assert!(7 * (BVH_MAX_DEPTH as usize - 1) + 8 <= STACK);
 
 /// `STACK − 1`.
 const STACK_MASK: usize = STACK - 1;
@@ -23,7 +26,7 @@ const STACK_MASK: usize = STACK - 1;
 /// per tile) and pass it to the `_with` queries. It is zeroed once, when
 /// made; queries only read entries they wrote, so it is never cleared
 /// again (the queries without `_with` clear a fresh stack of their own,
-/// 0.7–2.9 KB, on every call).
+/// 1–4 KB, on every call).
 ///
 /// ```
 /// use glam::Vec3;
