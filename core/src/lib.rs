@@ -119,6 +119,7 @@ pub mod filter;
 mod float;
 pub mod mapping;
 pub mod onb;
+mod pow;
 pub mod render;
 pub mod rng;
 pub mod sampler;
