@@ -155,8 +155,8 @@ impl Texture<'_> {
     /// camera's ray differentials ([`TextureFilter::Box`]).
     ///
     /// An axis narrower than 10⁻⁶ cells, or than 10⁻⁹ of the point's cell
-    /// coordinate (where `t ± h` would round), is point-sampled. An axis narrower than 10⁻⁶ cells is point-sampled, so
-    /// a zero box gives [`Texture::value`] exactly; an infinite or NaN
+    /// coordinate (where `t ± h` would round), is point-sampled, so a
+    /// zero box gives [`Texture::value`] exactly; an infinite or NaN
     /// width averages the cells away, giving `(even + odd) / 2`.
     ///
     /// ```
