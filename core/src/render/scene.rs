@@ -371,7 +371,10 @@ impl<'a> Scene<'a> {
     }
 
     /// [`Scene::closest_hit`] on the caller's reusable traversal `stack`.
-    #[inline]
+    /// Always inlined: the path loop's ray, just written field by field,
+    /// is then read from registers, not reloaded in wider pieces that the
+    /// processor cannot forward from those stores.
+    #[inline(always)]
     #[must_use]
     pub fn closest_hit_with(&self, ray: &Ray, stack: &mut BvhStack) -> Option<Hit> {
         match &self.bvh {
