@@ -452,10 +452,12 @@ pub(crate) fn may_hit<L: Lanes>(k: &Quadratic<L>, t_min: L) -> L::Mask {
     L::and(k.valid, ahead)
 }
 
-/// The scalar kernel on a ray and a sphere.
+/// The scalar kernel on a ray and a sphere (the brute-force loops' and
+/// the BVH outliers'), with [`may_hit`]'s early-out: one sphere, so the
+/// finer test costs one branch, not one per chunk.
 #[inline(always)]
-fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
-    sphere_t(
+pub(crate) fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
+    sphere_t_live(
         ray.origin.x,
         ray.origin.y,
         ray.origin.z,
@@ -468,6 +470,7 @@ fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
         s.radius,
         ray.t_min,
         t_max,
+        true,
     )
 }
 

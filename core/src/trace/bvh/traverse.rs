@@ -3,12 +3,16 @@
 //! child for the rays that reach it, handing subtrees that few rays reach
 //! to the single-ray traversal), and the [`BvhStack`] they run on.
 
+use glam::Vec3;
+
 use super::{BVH_MAX_DEPTH, Bvh, BvhNode8, LEAF_BIT, SLACK};
 use crate::trace::lanes::{
     f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt, lanes_le, lanes_lt,
     lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits, mask_from_i32, mask_sign,
 };
-use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, sphere_t, sphere_t_live};
+use crate::trace::{
+    Hit, HitPacket8, Ray, RayPacket8, Sphere, ray_sphere_t, sphere_t, sphere_t_live,
+};
 
 /// Traversal stack entries: the stack holds the unvisited siblings along
 /// the current path, at most 7 a level and 8 while a node's children are
@@ -267,21 +271,8 @@ impl Bvh<'_> {
     /// The kernel's `t` for outlier `k` (`+∞` for a miss).
     #[inline(always)]
     fn outlier_t(&self, k: usize, ray: &Ray) -> f32 {
-        sphere_t_live(
-            ray.origin.x,
-            ray.origin.y,
-            ray.origin.z,
-            ray.dir.x,
-            ray.dir.y,
-            ray.dir.z,
-            self.cx[k],
-            self.cy[k],
-            self.cz[k],
-            self.r[k],
-            ray.t_min,
-            ray.t_max,
-            true,
-        )
+        let s = Sphere::new(Vec3::new(self.cx[k], self.cy[k], self.cz[k]), self.r[k]);
+        ray_sphere_t(ray, &s, ray.t_max)
     }
 
     /// Closest-hit traversal of the subtree at `root` (a node index or a
