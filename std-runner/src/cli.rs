@@ -352,7 +352,8 @@ fn positive_f32(s: &str) -> Result<f32, String> {
 }
 
 /// `strata render` flags. Unset values come from the scene's defaults.
-#[derive(Debug, Args)]
+/// (Serde: a checkpoint keeps them, to resume the same render.)
+#[derive(Clone, Debug, Args, serde::Serialize, serde::Deserialize)]
 pub struct RenderArgs {
     /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
     /// TOML scene file.
@@ -464,10 +465,28 @@ pub struct RenderArgs {
     /// Write run facts (threads, wall time, SIMD level, rays) as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
+    /// Keep each finished tile in this file as the render goes, so an
+    /// interrupted render (Ctrl-C, SIGTERM, a killed job, a failed write)
+    /// can be resumed with --resume; removed once the output is written
+    /// [default: OUTPUT.checkpoint, beside the output].
+    #[arg(long, conflicts_with = "no_checkpoint")]
+    pub checkpoint: Option<PathBuf>,
+    /// Keep no checkpoint (an interrupted render is then lost).
+    #[arg(long)]
+    pub no_checkpoint: bool,
+    /// Finish an interrupted render from its checkpoint: the flags, scene
+    /// and output are the checkpoint's (no other flag is taken); tiles it
+    /// holds are not rendered again, and the output is byte for byte the
+    /// uninterrupted render's.
+    #[arg(long, exclusive = true, value_name = "CHECKPOINT")]
+    #[serde(skip)]
+    pub resume: Option<PathBuf>,
 }
 
 /// The texture filters `--texture-filter` offers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 pub enum TextureFilterName {
     /// Point sampling.
     None,
@@ -487,7 +506,9 @@ impl TextureFilterName {
 }
 
 /// The filters `--filter` offers, with their usual shape parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 pub enum FilterName {
     /// The course's: uniform over the pixel.
     Box,

@@ -26,7 +26,9 @@ pub struct Image {
 }
 
 /// How linear radiance becomes 8-bit values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 pub enum Transfer {
     /// The sRGB curve, rounded (the default; a PNG `sRGB` chunk says so).
     Srgb,

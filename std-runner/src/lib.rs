@@ -3,6 +3,7 @@
 //! the benchmark workloads.
 
 pub mod bench;
+pub mod checkpoint;
 pub mod cli;
 pub mod commands;
 pub mod film;

@@ -6,6 +6,7 @@
 //! do not depend on the order).
 
 use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
@@ -20,7 +21,9 @@ use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobo
 use crate::scenes::{BvhMode, SceneData};
 
 /// The pixel samplers the command line offers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 pub enum SamplerKind {
     /// Uniform random positions (the course's `render()`).
     Independent,
@@ -196,8 +199,71 @@ pub struct Rendered {
     /// Wall-clock time of the render: the BVH's build and the tracing
     /// (not the merge of splatted tiles' borders, which follows).
     pub wall: Duration,
-    /// What was traced: camera paths, closest-hit rays, shadow rays.
+    /// What was traced: camera paths, closest-hit rays, shadow rays (of
+    /// every tile, those [`Resume::done`] brought included).
     pub stats: TileStats,
+    /// What this run traced (without the tiles [`Resume::done`] brought).
+    pub run_stats: TileStats,
+}
+
+/// A finished tile: its index in [`job_tiles`], its film (the tile, or the
+/// tile and its splat margin) and what it traced.
+pub type TileFilm = (u32, Vec<PixelSum>, TileStats);
+
+/// What a resumable render ([`run_resumable`]) is told and tells.
+pub struct Resume<'h> {
+    /// Tiles already rendered (from a checkpoint): not rendered again.
+    pub done: Vec<TileFilm>,
+    /// Called with each tile this run finishes, before it counts as done;
+    /// an error stops the render.
+    pub on_tile: &'h (dyn Fn(&TileFilm) -> Result<()> + Sync),
+    /// Once set, no further tile starts (those in flight finish and are
+    /// passed to `on_tile`); the render then ends as [`Outcome::Stopped`].
+    pub stop: &'h AtomicBool,
+}
+
+/// How a resumable render ended.
+#[derive(Debug)]
+pub enum Outcome {
+    /// Every tile is done.
+    Finished(Rendered),
+    /// Stopped with `done` of `total` tiles finished (those `on_tile` took,
+    /// and the ones given).
+    Stopped {
+        /// Tiles finished.
+        done: usize,
+        /// Tiles of the job.
+        total: usize,
+    },
+}
+
+/// The side of the job's tiles: `--tile`, or for a splatted filter at
+/// least four times its margin, so a tile's film (the tile and the margin
+/// a side) stays within 2.25 times the tile (the side changes speed, never
+/// the image).
+#[must_use]
+pub fn tile_side(job: &Job<'_>) -> u32 {
+    match job.splats() {
+        true => job.tile.max(4 * job.filter.splat_margin()),
+        false => job.tile,
+    }
+}
+
+/// The job's tiles, in the order [`run`] indexes them.
+#[must_use]
+pub fn job_tiles(job: &Job<'_>) -> Vec<Tile> {
+    tiles(job.window, tile_side(job))
+}
+
+/// The length of a tile's film in `job`: the tile, or for a splatted
+/// filter the tile and its margin a side.
+pub fn tile_film_len(job: &Job<'_>, tile: Tile) -> Result<usize> {
+    let (pw, ph) = match job.splats() {
+        true => splat_film_size(&job.filter, tile)
+            .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))?,
+        false => (tile.width, tile.height),
+    };
+    Ok(pw as usize * ph as usize)
 }
 
 /// The tiles of `window`, row-major, `side × side` except at its right
@@ -219,6 +285,27 @@ pub fn tiles(window: Tile, side: u32) -> Vec<Tile> {
 
 /// Renders `job`, calling `progress` with each finished tile's pixel count.
 pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
+    let stop = AtomicBool::new(false);
+    let resume = Resume {
+        done: Vec::new(),
+        on_tile: &|_| Ok(()),
+        stop: &stop,
+    };
+    match run_resumable(job, progress, resume)? {
+        Outcome::Finished(r) => Ok(r),
+        Outcome::Stopped { .. } => unreachable!("nothing sets the stop flag"),
+    }
+}
+
+/// [`run`], skipping the tiles `resume.done` holds, handing each tile it
+/// finishes to `resume.on_tile`, and stopping early when `resume.stop`
+/// is set. The pixels do not depend on which tiles were done before: the
+/// tiles are placed (or added) in index order either way.
+pub fn run_resumable(
+    job: &Job<'_>,
+    progress: &(dyn Fn(u64) + Sync),
+    resume: Resume<'_>,
+) -> Result<Outcome> {
     let data = job.scene;
     let w = job.window;
     if w.width == 0
@@ -263,8 +350,16 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
         .num_threads(job.threads)
         .build()
         .context("cannot start the worker threads")?;
+    let all = job_tiles(job);
+    let mut skip = vec![false; all.len()];
+    for (i, _, _) in &resume.done {
+        match skip.get_mut(*i as usize) {
+            Some(s) if !*s => *s = true,
+            _ => return Err(anyhow!("done tile {i} is not a tile of the job, or twice")),
+        }
+    }
     let start = Instant::now();
-    let films = data.with_scene_bvh(job.bvh, |scene| {
+    let new = data.with_scene_bvh(job.bvh, |scene| {
         pool.install(|| {
             let work = RenderAll {
                 job,
@@ -272,17 +367,36 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
                 camera: &camera,
                 settings: &settings,
                 progress,
+                skip: &skip,
+                on_tile: resume.on_tile,
+                stop: resume.stop,
             };
             job.sampler
                 .with_sampler(job.spp, job.seed, UVec2::new(job.width, job.height), work)?
         })
     })??;
     let wall = start.elapsed();
+    let mut run_stats = TileStats::default();
+    for (_, _, s) in &new {
+        run_stats.add(s);
+    }
+    let mut films = resume.done;
+    films.extend(new);
+    if films.len() < all.len() {
+        return Ok(Outcome::Stopped {
+            done: films.len(),
+            total: all.len(),
+        });
+    }
+    // Index order, whichever run rendered a tile: the splatted sums are
+    // added in one order always.
+    films.sort_unstable_by_key(|f| f.0);
     let border = if splat { job.filter.splat_margin() } else { 0 };
     let out = crate::film::extent(w, border, job.width, job.height);
     let mut pixels = vec![PixelSum::ZERO; out.area()];
     let mut stats = TileStats::default();
-    for (tile, film, tile_stats) in films {
+    for (i, film, tile_stats) in films {
+        let tile = all[i as usize];
         stats.add(&tile_stats);
         if border > 0 {
             add_splatted(&mut pixels, out, tile, border, &film);
@@ -294,12 +408,13 @@ pub fn run(job: &Job<'_>, progress: &(dyn Fn(u64) + Sync)) -> Result<Rendered> {
             pixels[at..at + tile.width as usize].copy_from_slice(src);
         }
     }
-    Ok(Rendered {
+    Ok(Outcome::Finished(Rendered {
         border,
         pixels,
         wall,
         stats,
-    })
+        run_stats,
+    }))
 }
 
 /// Adds a splatted tile's film (the tile and `margin` pixels around it)
@@ -323,46 +438,48 @@ struct RenderAll<'a, 's> {
     camera: &'a Camera,
     settings: &'a RenderSettings,
     progress: &'a (dyn Fn(u64) + Sync),
+    /// Tiles not to render (done before).
+    skip: &'a [bool],
+    on_tile: &'a (dyn Fn(&TileFilm) -> Result<()> + Sync),
+    stop: &'a AtomicBool,
 }
 
 impl WithSampler for RenderAll<'_, '_> {
-    type Output = Result<Vec<(Tile, Vec<PixelSum>, TileStats)>>;
+    type Output = Result<Vec<TileFilm>>;
     fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Self::Output {
-        render_all(
-            self.job,
-            self.scene,
-            self.camera,
-            self.settings,
-            sampler,
-            self.progress,
-        )
+        render_all(&self, sampler)
     }
 }
 
+/// The tiles of the job `all` does not skip, in parallel, until the stop
+/// flag is set.
 fn render_all<S: Sampler + Clone + Send + Sync>(
-    job: &Job<'_>,
-    scene: &Scene<'_>,
-    camera: &Camera,
-    settings: &RenderSettings,
+    all: &RenderAll<'_, '_>,
     sampler: S,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<(Tile, Vec<PixelSum>, TileStats)>> {
-    // A splatted tile's film has a margin of m pixels a side: tiles of at
-    // least 4m keep it within 2.25 times the tile (the side changes speed,
-    // never the image).
-    let side = match job.splats() {
-        true => job.tile.max(4 * job.filter.splat_margin()),
-        false => job.tile,
-    };
-    tiles(job.window, side)
+) -> Result<Vec<TileFilm>> {
+    let RenderAll {
+        job,
+        scene,
+        camera,
+        settings,
+        progress,
+        ..
+    } = *all;
+    let done: u64 = job_tiles(job)
+        .iter()
+        .zip(all.skip)
+        .filter(|(_, s)| **s)
+        .map(|(t, _)| t.area() as u64)
+        .sum();
+    progress(done);
+    let found: Result<Vec<Option<TileFilm>>> = job_tiles(job)
         .into_par_iter()
-        .map(|tile| {
-            let (pw, ph) = match job.splats() {
-                true => splat_film_size(&job.filter, tile)
-                    .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))?,
-                false => (tile.width, tile.height),
-            };
-            let mut film = vec![PixelSum::ZERO; pw as usize * ph as usize];
+        .enumerate()
+        .map(|(i, tile)| {
+            if all.skip[i] || all.stop.load(Ordering::Relaxed) {
+                return Ok(None);
+            }
+            let mut film = vec![PixelSum::ZERO; tile_film_len(job, tile)?];
             let stats = match job.adaptive {
                 Some(a) => {
                     render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
@@ -378,10 +495,13 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
                 }
             }
             .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
+            let out = (i as u32, film, stats);
+            (all.on_tile)(&out)?;
             progress(tile.area() as u64);
-            Ok((tile, film, stats))
+            Ok(Some(out))
         })
-        .collect()
+        .collect();
+    Ok(found?.into_iter().flatten().collect())
 }
 
 /// `x0,x1,y0,y1` of a tile, as `--pixel-bounds` takes it, for messages;

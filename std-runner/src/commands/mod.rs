@@ -12,6 +12,7 @@ pub mod filters;
 pub mod merge;
 pub mod output;
 pub mod render;
+pub use render::Interrupted;
 pub mod spectrum;
 pub mod verify;
 

@@ -2,11 +2,13 @@
 //! `.film`, after every flag is checked; run facts to stdout and `--stats`.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use strata::render::{Adaptive, Tile, TileStats};
 
+use crate::checkpoint::{self, Checkpoint};
 use crate::cli::RenderArgs;
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
@@ -16,27 +18,133 @@ use crate::commands::{
     window_of,
 };
 use crate::film::{Film, RenderKey, extent, is_film_path, samples_text, window_text};
-use crate::image_io::{Transfer, say};
-use crate::render::{Job, Rendered, SamplerKind, run};
+use crate::image_io::{Transfer, check_writable_dir, say};
+use crate::render::{Job, Outcome, Rendered, Resume, SamplerKind, TileFilm, run_resumable};
 use crate::scenes::SceneData;
+use crate::scenes::built_in;
 
 /// Runs `strata render`: the plan (every check), the render, the files,
-/// the report.
+/// the report; or, with `--resume`, the rest of a checkpointed render.
 pub fn render(args: &RenderArgs) -> Result<()> {
+    if let Some(path) = &args.resume {
+        return resume(path);
+    }
     let scene = resolve_scene(&args.scene)?;
     let plan = args.plan(&scene)?;
+    let checkpoint = match &plan.checkpoint {
+        None => None,
+        Some(path) => {
+            if path.exists() {
+                bail!(
+                    "the checkpoint `{0}` exists: an earlier render was interrupted; finish it \
+                     with `strata render --resume {0}`, or delete it to start again",
+                    path.display()
+                );
+            }
+            Some(Checkpoint::create(path, &args.absolute()?, &plan.job)?)
+        }
+    };
+    finish(&plan, checkpoint, Vec::new())
+}
+
+/// `strata render --resume FILE`: the checkpoint's flags planned again
+/// (so every check runs again), its tiles kept, the rest rendered.
+fn resume(path: &Path) -> Result<()> {
+    let saved = checkpoint::read(path)?;
+    let scene = resolve_scene(&saved.args.scene)
+        .with_context(|| format!("the scene of the checkpoint `{}`", path.display()))?;
+    let mut plan = saved.args.plan(&scene)?;
+    saved
+        .check(&plan.job)
+        .with_context(|| format!("checkpoint `{}`", path.display()))?;
+    plan.checkpoint = Some(path.to_path_buf());
+    let checkpoint = Checkpoint::reopen(path, &saved)?;
+    finish(&plan, Some(checkpoint), saved.tiles)
+}
+
+/// Set by SIGINT or SIGTERM while a checkpointed render runs: no new tile
+/// starts. A second signal exits at once (the checkpoint's records are
+/// whole or dropped on resume).
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Renders the tiles `done` lacks, appending each to `checkpoint`, then
+/// writes the files and removes the checkpoint.
+fn finish(
+    plan: &RenderPlan<'_>,
+    checkpoint: Option<Checkpoint>,
+    done: Vec<TileFilm>,
+) -> Result<()> {
     let job = &plan.job;
+    if checkpoint.is_some() {
+        // Only one handler per process; a second render in one process
+        // (tests) keeps the first, which sets the same flag.
+        let _ = ctrlc::set_handler(|| {
+            if STOP.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!("\nstopping: finishing the tiles in flight (again to quit at once)");
+        });
+    }
+    let resumed = done.len();
+    let appended = AtomicUsize::new(0);
+    let on_tile = |t: &TileFilm| -> Result<()> {
+        if let Some(c) = &checkpoint {
+            c.append(t)?;
+            appended.fetch_add(1, Ordering::Relaxed);
+        }
+        Ok(())
+    };
     let bar = progress_bar(
         job.window.area() as u64,
         "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
     );
+    let resume = Resume {
+        done,
+        on_tile: &on_tile,
+        stop: &STOP,
+    };
+    let outcome = run_resumable(job, &|n| bar.inc(n), resume);
+    bar.finish_and_clear();
+    // Keeps the checkpoint when it holds tiles (and says so), else
+    // removes it: a render refused before its first tile leaves no file.
+    let kept = |e: anyhow::Error| -> anyhow::Error {
+        match &checkpoint {
+            Some(c) if resumed + appended.load(Ordering::Relaxed) > 0 => {
+                c.sync().ok();
+                e.context(format!(
+                    "the finished tiles are kept in `{0}`: `strata render --resume {0}` goes on",
+                    c.path().display()
+                ))
+            }
+            Some(c) => {
+                std::fs::remove_file(c.path()).ok();
+                e
+            }
+            None => e,
+        }
+    };
+    let rendered = match outcome.map_err(kept)? {
+        Outcome::Finished(r) => r,
+        Outcome::Stopped { done, total } => {
+            let Some(c) = &checkpoint else {
+                unreachable!("only a checkpointed render installs the stop handler")
+            };
+            c.sync()?;
+            return Err(Interrupted(format!(
+                "interrupted: {done} of {total} tiles are kept in `{0}`; \
+                 `strata render --resume {0}` renders the rest",
+                c.path().display()
+            ))
+            .into());
+        }
+    };
     let Rendered {
         border,
         pixels,
         wall,
         stats,
-    } = run(job, &|n| bar.inc(n))?;
-    bar.finish_and_clear();
+        run_stats,
+    } = rendered;
     let mut film = Film {
         key: RenderKey::of(job),
         window: job.window,
@@ -58,14 +166,31 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     // Samples of the film's own pixels (those of a splatted image's
     // border are rendered, not kept).
     let dropped: u64 = film.window_pixels().iter().map(|p| p.dropped as u64).sum();
-    plan.write(&film)?;
-    say(&plan.summary(&film));
-    say(&speed_line(job, wall, stats, dropped));
-    match &plan.stats {
-        Some(path) => write_stats(path, &plan, wall, stats, dropped),
-        None => Ok(()),
+    plan.write(&film).map_err(kept)?;
+    if let Some(path) = &plan.stats {
+        write_stats(path, plan, wall, stats, dropped, resumed).map_err(kept)?;
     }
+    if let Some(c) = &checkpoint {
+        std::fs::remove_file(c.path())
+            .with_context(|| format!("cannot remove the checkpoint `{}`", c.path().display()))?;
+    }
+    say(&plan.summary(&film));
+    if resumed > 0 {
+        say(&format!(
+            "resumed: {resumed} of {} tiles from the checkpoint, {} rendered now",
+            resumed + appended.load(Ordering::Relaxed),
+            appended.load(Ordering::Relaxed)
+        ));
+    }
+    say(&speed_line(job, wall, run_stats, dropped));
+    Ok(())
 }
+
+/// A render stopped by a signal, its tiles checkpointed: `strata` exits
+/// with status 130 and this message.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Interrupted(pub String);
 
 /// `strata render` with every flag checked: the job and its files.
 struct RenderPlan<'a> {
@@ -78,6 +203,8 @@ struct RenderPlan<'a> {
     spp_map: Option<PathBuf>,
     /// `--stats`.
     stats: Option<PathBuf>,
+    /// The checkpoint, unless `--no-checkpoint`.
+    checkpoint: Option<PathBuf>,
     /// The window an image keeps when the job renders more: a window of a
     /// splatted filter written as an image renders its border's pixels
     /// too (their samples reach it), then keeps the window.
@@ -112,6 +239,7 @@ impl RenderArgs {
             );
         }
         let output = self.output_files(&scene.name)?;
+        let checkpoint = self.checkpoint_file(&output)?;
         let mut job = Job {
             window,
             samples,
@@ -138,6 +266,7 @@ impl RenderArgs {
             gamma: self.gamma,
             spp_map: self.spp_map.clone(),
             stats: self.stats.clone(),
+            checkpoint,
             image_window,
         })
     }
@@ -178,6 +307,54 @@ impl RenderArgs {
             }
         }
         Ok(output)
+    }
+}
+
+impl RenderArgs {
+    /// The checkpoint file (unless `--no-checkpoint`), checked: not one of
+    /// the outputs, in a writable directory.
+    fn checkpoint_file(&self, output: &Path) -> Result<Option<PathBuf>> {
+        if self.no_checkpoint {
+            return Ok(None);
+        }
+        let path = match &self.checkpoint {
+            Some(p) => p.clone(),
+            None => checkpoint::default_path(output),
+        };
+        let others = [Some(output), self.stats.as_deref(), self.spp_map.as_deref()];
+        if others.into_iter().flatten().any(|o| same_path(o, &path)) {
+            bail!(
+                "--checkpoint `{}` is one of the render's outputs",
+                path.display()
+            );
+        }
+        check_writable_dir(&path).context("--checkpoint")?;
+        Ok(Some(path))
+    }
+
+    /// These flags with every path absolute and the output named, so a
+    /// checkpoint resumes the same render from any directory.
+    fn absolute(&self) -> Result<RenderArgs> {
+        let abs = |p: &Path| {
+            std::path::absolute(p).with_context(|| format!("cannot resolve `{}`", p.display()))
+        };
+        let opt = |p: &Option<PathBuf>| p.as_deref().map(abs).transpose();
+        let mut out = self.clone();
+        if built_in(&self.scene).is_none() {
+            out.scene = abs(Path::new(&self.scene))?
+                .to_str()
+                .context("the scene file's path is not UTF-8: resume needs it as text")?
+                .to_string();
+        }
+        let output = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{}.png", self.scene)));
+        out.output = Some(abs(&output)?);
+        out.stats = opt(&self.stats)?;
+        out.spp_map = opt(&self.spp_map)?;
+        out.checkpoint = opt(&self.checkpoint)?;
+        Ok(out)
     }
 }
 
@@ -260,6 +437,7 @@ fn write_stats(
     wall: Duration,
     st: TileStats,
     dropped: u64,
+    resumed: usize,
 ) -> Result<()> {
     let job = &plan.job;
     let scene = job.scene;
@@ -274,6 +452,7 @@ fn write_stats(
         "rays": st.rays,
         "shadow_rays": st.shadow_rays,
         "dropped_samples": dropped,
+        "resumed_tiles": resumed,
         "bvh": scene.use_bvh(job.bvh),
         "version": crate::film::version(),
     });

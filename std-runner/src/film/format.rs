@@ -23,25 +23,8 @@ impl Film {
     /// The file bytes: header and body.
     #[must_use]
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut body = vec![0u8; self.pixels.len() * BYTES_PER_PIXEL];
-        for (p, out) in self
-            .pixels
-            .iter()
-            .zip(body.chunks_exact_mut(BYTES_PER_PIXEL))
-        {
-            // Fixed offsets into a fixed-size record: no length checks and
-            // regrowth per field (extending field by field cost about 350
-            // instructions a pixel, 1.7 % of a cover render).
-            let words = [p.sum[0], p.sum[1], p.sum[2], p.weight];
-            for (o, s) in out[..32].chunks_exact_mut(8).zip(words) {
-                o.copy_from_slice(&s.to_le_bytes());
-            }
-            out[32..36].copy_from_slice(&p.samples.to_le_bytes());
-            out[36..40].copy_from_slice(&p.dropped.to_le_bytes());
-            for (o, s) in out[40..].chunks_exact_mut(8).zip(p.own_minus_sum) {
-                o.copy_from_slice(&s.to_le_bytes());
-            }
-        }
+        let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
+        encode_pixels(&self.pixels, &mut body);
         let mut head = String::new();
         writeln!(head, "{MAGIC}").unwrap();
         for (k, v) in self.key.fields() {
@@ -176,20 +159,7 @@ impl Film {
         if sum != crate::hash::fnv1a(body) {
             bail!("corrupt: the pixel checksum does not match");
         }
-        let pixels = body
-            .chunks_exact(BYTES_PER_PIXEL)
-            .map(|r| {
-                let i = |k: usize| i64::from_le_bytes(r[8 * k..8 * k + 8].try_into().unwrap());
-                let u = |o: usize| u32::from_le_bytes(r[o..o + 4].try_into().unwrap());
-                PixelSum {
-                    sum: [i(0), i(1), i(2)],
-                    weight: i(3),
-                    own_minus_sum: [i(5), i(6), i(7)],
-                    samples: u(32),
-                    dropped: u(36),
-                }
-            })
-            .collect::<Vec<PixelSum>>();
+        let pixels = decode_pixels(body);
         let film = Film {
             key,
             window,
@@ -207,6 +177,48 @@ impl Film {
             std::fs::read(path).with_context(|| format!("cannot read `{}`", path.display()))?;
         Film::from_bytes(&bytes).with_context(|| format!("`{}`", path.display()))
     }
+}
+
+/// Appends the body records of `pixels` to `out` (64 bytes each, the
+/// layout in the module docs).
+pub(crate) fn encode_pixels(pixels: &[PixelSum], out: &mut Vec<u8>) {
+    let at = out.len();
+    out.resize(at + pixels.len() * BYTES_PER_PIXEL, 0);
+    for (p, rec) in pixels
+        .iter()
+        .zip(out[at..].chunks_exact_mut(BYTES_PER_PIXEL))
+    {
+        // Fixed offsets into a fixed-size record: no length checks and
+        // regrowth per field (extending field by field cost about 350
+        // instructions a pixel, 1.7 % of a cover render).
+        let words = [p.sum[0], p.sum[1], p.sum[2], p.weight];
+        for (o, s) in rec[..32].chunks_exact_mut(8).zip(words) {
+            o.copy_from_slice(&s.to_le_bytes());
+        }
+        rec[32..36].copy_from_slice(&p.samples.to_le_bytes());
+        rec[36..40].copy_from_slice(&p.dropped.to_le_bytes());
+        for (o, s) in rec[40..].chunks_exact_mut(8).zip(p.own_minus_sum) {
+            o.copy_from_slice(&s.to_le_bytes());
+        }
+    }
+}
+
+/// The pixels of body records (`bytes` a whole number of records).
+pub(crate) fn decode_pixels(bytes: &[u8]) -> Vec<PixelSum> {
+    bytes
+        .chunks_exact(BYTES_PER_PIXEL)
+        .map(|r| {
+            let i = |k: usize| i64::from_le_bytes(r[8 * k..8 * k + 8].try_into().unwrap());
+            let u = |o: usize| u32::from_le_bytes(r[o..o + 4].try_into().unwrap());
+            PixelSum {
+                sum: [i(0), i(1), i(2)],
+                weight: i(3),
+                own_minus_sum: [i(5), i(6), i(7)],
+                samples: u(32),
+                dropped: u(36),
+            }
+        })
+        .collect()
 }
 
 /// The film's border is the one its render's filter reaches (checked

@@ -67,6 +67,7 @@ use strata::render::{PixelSum, Tile};
 use crate::image_io::{ImageFormat, Transfer, image_bytes};
 
 pub use format::{BYTES_PER_PIXEL, MAGIC};
+pub(crate) use format::{decode_pixels, encode_pixels};
 pub use key::{
     KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_samples, samples_text, version,
     window_text,

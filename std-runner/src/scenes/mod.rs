@@ -32,7 +32,17 @@ pub use crate::image_io::Image;
 pub const BVH_THRESHOLD: usize = 16;
 
 /// Whether a scene is traced through a BVH (it never changes a pixel).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
 pub enum BvhMode {
     /// From [`BVH_THRESHOLD`] spheres.
     #[default]

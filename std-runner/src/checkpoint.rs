@@ -1,0 +1,400 @@
+//! Checkpoints: the tiles a `strata render` has finished, kept on disk as
+//! it goes, so an interrupted render (Ctrl-C, a killed job, a full disk at
+//! the end) resumes where it stopped and ends in the same bytes.
+//!
+//! The file is a text header and then one record per finished tile,
+//! appended as each tile finishes:
+//!
+//! ```text
+//! strata-checkpoint 1
+//! args=<the render's flags as JSON, paths made absolute>
+//! version=...              the RenderKey fields of the render, then
+//! window=x0,x1,y0,y1       its pixel window, sample range and tiling:
+//! samples=A..B
+//! tile=N                   tile side
+//! tiles=N                  tile count
+//!                          (an empty line ends the header)
+//! record: b"TILE", tile index u32, pixel count u32, paths, rays and
+//!         shadow rays u64, the tile's film (64-byte pixel records as in
+//!         a .film body), FNV-1a 64 of the record's preceding bytes;
+//!         little-endian.
+//! ```
+//!
+//! A record is complete or it is not there: a process killed while
+//! appending leaves a record whose length or checksum is wrong, and
+//! reading stops before it (and cuts it off before appending more). So a
+//! killed render leaves only its checkpoint, and every tile the file holds
+//! whole is never rendered again. The header is written to a temporary
+//! file and renamed into place before the first tile starts.
+
+use std::fs::{File, OpenOptions};
+use std::io::{Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use strata::render::TileStats;
+
+use crate::cli::RenderArgs;
+use crate::film::{
+    BYTES_PER_PIXEL, RenderKey, decode_pixels, encode_pixels, samples_text, window_text,
+};
+use crate::image_io::{write_atomic, write_file};
+use crate::render::{Job, TileFilm, job_tiles, tile_film_len, tile_side};
+
+/// The first line of every checkpoint.
+pub const MAGIC: &str = "strata-checkpoint 1";
+
+/// How often appended tiles are flushed to the disk itself (`fsync`), in
+/// seconds; also on an interrupt and at the end. A killed process loses
+/// nothing it appended either way (the kernel holds it); this bounds what
+/// a machine crash loses.
+pub const SYNC_SECONDS: u64 = 30;
+
+/// The environment variable of the crash tests (a test hook, not a
+/// setting): `after:N` aborts the process once the Nth tile of this run is
+/// appended, `writing:N` halfway through appending it (as a kill would);
+/// `delay:MS` waits MS milliseconds before each append, so a test's
+/// signal finds the render running.
+pub const TEST_HOOK_VAR: &str = "STRATA_TEST_HOOK";
+
+/// Bytes of a record around its pixels: tag, index, count, three counts,
+/// checksum.
+const RECORD_OVERHEAD: usize = 4 + 4 + 4 + 3 * 8 + 8;
+
+/// The checkpoint name of an output when `--checkpoint` is not given:
+/// `OUTPUT.checkpoint`, beside it.
+#[must_use]
+pub fn default_path(output: &Path) -> PathBuf {
+    let mut name = output.as_os_str().to_owned();
+    name.push(".checkpoint");
+    PathBuf::from(name)
+}
+
+/// The header lines that say which render a checkpoint is of (all but
+/// `args`): a resumed render must make the same ones.
+pub fn identity(job: &Job<'_>) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = RenderKey::of(job)
+        .fields()
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.clone()))
+        .collect();
+    out.push(("window".into(), window_text(job.window)));
+    out.push(("samples".into(), samples_text(&job.samples)));
+    out.push(("tile".into(), tile_side(job).to_string()));
+    out.push(("tiles".into(), job_tiles(job).len().to_string()));
+    out
+}
+
+/// A checkpoint read back: the render's flags, who it is, and its tiles.
+pub struct Saved {
+    /// The flags of the render (paths absolute).
+    pub args: RenderArgs,
+    /// [`identity`] as written.
+    pub identity: Vec<(String, String)>,
+    /// The tiles recorded whole.
+    pub tiles: Vec<TileFilm>,
+    /// Bytes of the header and the whole records: where appending goes on.
+    end: u64,
+}
+
+/// An open checkpoint that finished tiles are appended to.
+pub struct Checkpoint {
+    path: PathBuf,
+    inner: Mutex<Appender>,
+    hook: Option<TestHook>,
+}
+
+struct Appender {
+    file: File,
+    synced: Instant,
+    /// Tiles appended by this process.
+    appended: u64,
+}
+
+#[derive(Clone, Copy)]
+enum TestHook {
+    After(u64),
+    Writing(u64),
+    Delay(u64),
+}
+
+impl Checkpoint {
+    /// Writes a new checkpoint's header (atomically) and opens it for
+    /// tiles. `args` must already hold absolute paths.
+    pub fn create(path: &Path, args: &RenderArgs, job: &Job<'_>) -> Result<Checkpoint> {
+        let json = serde_json::to_string(args).context("encoding the flags")?;
+        let mut head = format!("{MAGIC}\nargs={json}\n");
+        for (k, v) in identity(job) {
+            head.push_str(&format!("{k}={v}\n"));
+        }
+        head.push('\n');
+        write_atomic(path, |tmp| write_file(tmp, head.as_bytes()))
+            .with_context(|| format!("cannot write the checkpoint `{}`", path.display()))?;
+        Checkpoint::open_at(path, head.len() as u64)
+    }
+
+    /// Opens a checkpoint read by [`read`] for more tiles, cutting off a
+    /// torn last record.
+    pub fn reopen(path: &Path, saved: &Saved) -> Result<Checkpoint> {
+        Checkpoint::open_at(path, saved.end)
+    }
+
+    fn open_at(path: &Path, end: u64) -> Result<Checkpoint> {
+        let cannot = || format!("cannot open the checkpoint `{}`", path.display());
+        let mut file = OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(cannot)?;
+        file.set_len(end).with_context(cannot)?;
+        file.seek(SeekFrom::Start(end)).with_context(cannot)?;
+        Ok(Checkpoint {
+            path: path.to_path_buf(),
+            inner: Mutex::new(Appender {
+                file,
+                synced: Instant::now(),
+                appended: 0,
+            }),
+            hook: test_hook()?,
+        })
+    }
+
+    /// The file.
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Appends a finished tile (one write of the whole record).
+    pub fn append(&self, tile: &TileFilm) -> Result<()> {
+        let record = encode_record(tile);
+        if let Some(TestHook::Delay(ms)) = self.hook {
+            std::thread::sleep(Duration::from_millis(ms));
+        }
+        let mut a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        a.appended += 1;
+        if let Some(TestHook::Writing(n)) = self.hook
+            && n == a.appended
+        {
+            a.file.write_all(&record[..record.len() / 2]).ok();
+            std::process::abort();
+        }
+        a.file.write_all(&record).with_context(|| {
+            format!("cannot append to the checkpoint `{}`", self.path.display())
+        })?;
+        if let Some(TestHook::After(n)) = self.hook
+            && n == a.appended
+        {
+            std::process::abort();
+        }
+        if a.synced.elapsed() >= Duration::from_secs(SYNC_SECONDS) {
+            a.file.sync_data().ok();
+            a.synced = Instant::now();
+        }
+        Ok(())
+    }
+
+    /// Flushes the appended tiles to the disk.
+    pub fn sync(&self) -> Result<()> {
+        let a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        a.file
+            .sync_data()
+            .with_context(|| format!("cannot flush the checkpoint `{}`", self.path.display()))
+    }
+}
+
+fn test_hook() -> Result<Option<TestHook>> {
+    let Ok(v) = std::env::var(TEST_HOOK_VAR) else {
+        return Ok(None);
+    };
+    let parsed = match v.split_once(':') {
+        Some(("after", n)) => n.parse().ok().map(TestHook::After),
+        Some(("writing", n)) => n.parse().ok().map(TestHook::Writing),
+        Some(("delay", ms)) => ms.parse().ok().map(TestHook::Delay),
+        _ => None,
+    };
+    match parsed {
+        Some(a) => Ok(Some(a)),
+        None => bail!("{TEST_HOOK_VAR}=`{v}`: use after:N, writing:N or delay:MS"),
+    }
+}
+
+fn encode_record(tile: &TileFilm) -> Vec<u8> {
+    let (index, pixels, stats) = tile;
+    let mut out = Vec::with_capacity(RECORD_OVERHEAD + pixels.len() * BYTES_PER_PIXEL);
+    out.extend_from_slice(b"TILE");
+    out.extend_from_slice(&index.to_le_bytes());
+    out.extend_from_slice(&(pixels.len() as u32).to_le_bytes());
+    for c in [stats.paths, stats.rays, stats.shadow_rays] {
+        out.extend_from_slice(&c.to_le_bytes());
+    }
+    encode_pixels(pixels, &mut out);
+    let sum = crate::hash::fnv1a(&out);
+    out.extend_from_slice(&sum.to_le_bytes());
+    out
+}
+
+/// Reads a checkpoint: its header, and its whole records up to the first
+/// torn one. Errors name the file.
+pub fn read(path: &Path) -> Result<Saved> {
+    let mut bytes = Vec::new();
+    File::open(path)
+        .and_then(|mut f| f.read_to_end(&mut bytes))
+        .with_context(|| format!("cannot read the checkpoint `{}`", path.display()))?;
+    parse(&bytes).with_context(|| format!("checkpoint `{}`", path.display()))
+}
+
+fn parse(bytes: &[u8]) -> Result<Saved> {
+    let Some(end) = bytes.windows(2).position(|w| w == b"\n\n") else {
+        bail!("not a Strata checkpoint, or cut off in its header");
+    };
+    let head = std::str::from_utf8(&bytes[..end]).context("header is not UTF-8")?;
+    let mut lines = head.lines();
+    if lines.next() != Some(MAGIC) {
+        bail!("not a Strata checkpoint (no `{MAGIC}` line)");
+    }
+    let mut args = None;
+    let mut identity = Vec::new();
+    for line in lines {
+        let (k, v) = line
+            .split_once('=')
+            .with_context(|| format!("header line `{line}` is not key=value"))?;
+        match k {
+            "args" => {
+                args = Some(
+                    serde_json::from_str::<RenderArgs>(v)
+                        .context("its flags are not those of this build")?,
+                );
+            }
+            _ => identity.push((k.to_string(), v.to_string())),
+        }
+    }
+    let args = args.context("header has no `args`")?;
+    let mut at = end + 2;
+    let mut tiles = Vec::new();
+    while let Some((tile, len)) = parse_record(&bytes[at..]) {
+        tiles.push(tile);
+        at += len;
+    }
+    Ok(Saved {
+        args,
+        identity,
+        tiles,
+        end: at as u64,
+    })
+}
+
+/// One whole record at the start of `b` and its length, or `None` if it is
+/// cut off or its checksum fails (a torn append).
+fn parse_record(b: &[u8]) -> Option<(TileFilm, usize)> {
+    let u32_at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+    let u64_at = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().unwrap());
+    if b.len() < RECORD_OVERHEAD || &b[..4] != b"TILE" {
+        return None;
+    }
+    let count = u32_at(8) as usize;
+    let body = count.checked_mul(BYTES_PER_PIXEL)?;
+    let len = RECORD_OVERHEAD.checked_add(body)?;
+    if b.len() < len || u64_at(len - 8) != crate::hash::fnv1a(&b[..len - 8]) {
+        return None;
+    }
+    let stats = TileStats {
+        paths: u64_at(12),
+        rays: u64_at(20),
+        shadow_rays: u64_at(28),
+    };
+    let pixels = decode_pixels(&b[36..36 + body]);
+    Some(((u32_at(4), pixels, stats), len))
+}
+
+impl Saved {
+    /// Checks the saved tiles against the job a resumed render makes of
+    /// the saved flags: the same render (else the first field that
+    /// differs is named), each tile a tile of it, once, with a film of its
+    /// size.
+    pub fn check(&self, job: &Job<'_>) -> Result<()> {
+        let now = identity(job);
+        for (k, v) in &now {
+            match self.identity.iter().find(|(sk, _)| sk == k) {
+                Some((_, saved)) if saved == v => {}
+                Some((_, saved)) => bail!(
+                    "it is of another render than its flags make now: {k} is `{saved}` there, \
+                     `{v}` now{}",
+                    match k.as_str() {
+                        "scene_hash" => " (the scene file changed)",
+                        "version" => " (another build of strata)",
+                        _ => "",
+                    }
+                ),
+                None => bail!("its header has no `{k}`"),
+            }
+        }
+        if self.identity.len() != now.len() {
+            bail!("its header has fields this build does not write");
+        }
+        let tiles = job_tiles(job);
+        let mut seen = vec![false; tiles.len()];
+        for (i, pixels, _) in &self.tiles {
+            let i = *i as usize;
+            if i >= tiles.len() || seen[i] {
+                bail!("it records tile {i} twice or out of range");
+            }
+            seen[i] = true;
+            if pixels.len() != tile_film_len(job, tiles[i])? {
+                bail!("its tile {i} has {} pixels, not its tile's", pixels.len());
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(index: u32, n: usize) -> TileFilm {
+        let pixels = (0..n)
+            .map(|k| strata::render::PixelSum {
+                sum: [k as i64, -1, 7],
+                samples: 3,
+                ..strata::render::PixelSum::ZERO
+            })
+            .collect();
+        let stats = TileStats {
+            paths: 1,
+            rays: 2,
+            shadow_rays: 3,
+        };
+        (index, pixels, stats)
+    }
+
+    #[test]
+    fn records_round_trip_and_torn_ones_are_dropped() {
+        let a = encode_record(&record(4, 5));
+        let b = encode_record(&record(9, 2));
+        let (got, len) = parse_record(&a).unwrap();
+        assert_eq!(len, a.len());
+        assert_eq!(got, record(4, 5));
+        // Every cut of the second record leaves the first alone readable.
+        let both = [a.clone(), b.clone()].concat();
+        for cut in 0..b.len() {
+            let bytes = &both[..a.len() + cut];
+            assert!(parse_record(&bytes[a.len()..]).is_none(), "cut {cut}");
+        }
+        // A flipped bit anywhere fails the checksum (or the tag/length).
+        for at in 0..b.len() {
+            let mut bad = b.clone();
+            bad[at] ^= 0x10;
+            assert!(parse_record(&bad).is_none(), "byte {at}");
+        }
+    }
+
+    #[test]
+    fn default_path_is_beside_the_output() {
+        assert_eq!(
+            default_path(Path::new("out/x.png")),
+            PathBuf::from("out/x.png.checkpoint")
+        );
+    }
+}
