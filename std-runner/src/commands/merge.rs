@@ -6,7 +6,7 @@ use anyhow::{Result, bail};
 use crate::cli::MergeArgs;
 use crate::commands::check_output_ext;
 use crate::commands::output::{SppMap, check_output_or_film, same_path, write_film_or_image};
-use crate::film::{Film, is_film_path, samples_text, window_text};
+use crate::film::{is_film_path, merge_files, samples_text, window_text};
 use crate::image_io::say;
 
 /// Runs `strata merge`: every part is read and checked before the output
@@ -21,11 +21,6 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     {
         bail!("the output `{}` is one of the parts", p.display());
     }
-    let parts: Vec<Film> = args
-        .parts
-        .iter()
-        .map(|p| Film::read(p))
-        .collect::<Result<_>>()?;
     if let Some(map) = &args.spp_map {
         check_output_ext(map, "png", "--spp-map")?;
         if same_path(map, &args.output) || args.parts.iter().any(|p| same_path(map, p)) {
@@ -36,10 +31,8 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
         }
     }
     // An image is of the finished render; a .film may be a staged part.
-    let film = match is_film_path(&args.output) {
-        true => crate::film::merge(&parts, &args.parts)?,
-        false => crate::film::merge_whole(&parts, &args.parts)?,
-    };
+    // Headers first, then one body at a time: one image in memory.
+    let film = merge_files(&args.parts, !is_film_path(&args.output))?;
     // Drawn before the image is written: a failure leaves no image.
     let map = args
         .spp_map
@@ -65,8 +58,8 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     };
     say(&format!(
         "merged {} part{}: {} {}x{}, {} spp{part}, to {}",
-        parts.len(),
-        if parts.len() == 1 { "" } else { "s" },
+        args.parts.len(),
+        if args.parts.len() == 1 { "" } else { "s" },
         film.key.get("scene").unwrap_or("?"),
         film.key.width(),
         film.key.height(),

@@ -1,6 +1,7 @@
 //! What the commands write: films and images by extension, spp maps and
 //! text reports (JSON, CSV); every output name checked before work starts.
 
+use std::io::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
@@ -101,6 +102,18 @@ pub(crate) fn check_output_or_film(path: &Path) -> Result<()> {
 
 /// Writes `film` as a .film, or its window as a PNG/EXR image.
 pub(crate) fn write_film_or_image(path: &Path, film: &Film, transfer: Transfer) -> Result<()> {
+    if is_film_path(path) {
+        // Streamed: no second copy of a large film's pixels.
+        return write_atomic(path, |tmp| {
+            let file = std::fs::File::create(tmp)
+                .with_context(|| format!("cannot write `{}`", tmp.display()))?;
+            let mut w = std::io::BufWriter::new(file);
+            film.write_to(&mut w)
+                .and_then(|()| w.flush())
+                .with_context(|| format!("cannot write `{}`", tmp.display()))
+        })
+        .with_context(|| format!("writing `{}`", path.display()));
+    }
     let bytes = film.output_bytes(path, transfer)?;
     write_atomic(path, |tmp| write_file(tmp, &bytes))
         .with_context(|| format!("writing `{}`", path.display()))

@@ -222,7 +222,17 @@ impl RenderArgs {
             Some(h) => h,
             None => height_for(scene, width, self.aspect)?,
         };
-        check_pixels(width, height, 1)?;
+        check_pixels(width, height, 1).map_err(|e| {
+            if self.crop.is_some() || self.pixel_bounds.is_some() {
+                // The cap bounds the one image a merge of the parts holds.
+                anyhow::anyhow!(
+                    "{e}: the cap is on the whole frame, also for a window of it (its parts \
+                     merge into one image of that size)"
+                )
+            } else {
+                e
+            }
+        })?;
         let (spp, adaptive) = self.sample_counts(d.spp)?;
         let window = match (self.crop, self.pixel_bounds) {
             (Some(c), _) => crop_to_window(c, width, height)?,

@@ -2,6 +2,8 @@
 //! read back, checked, by [`Film::from_bytes`].
 
 use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
@@ -19,12 +21,44 @@ pub const MAGIC: &str = "strata-film 4";
 /// Bytes per pixel in a film's body.
 pub const BYTES_PER_PIXEL: usize = 64;
 
-impl Film {
-    /// The file bytes: header and body.
+/// Longest film header read: the key's values are short (a scene file's
+/// name is the longest), so a longer one is not a film.
+pub const MAX_HEADER_BYTES: usize = 64 * 1024;
+
+/// Pixels read at once while a film body is streamed (1 MiB).
+const CHUNK_PIXELS: usize = 16 * 1024;
+
+/// A film's header: what [`Film`] holds but its pixels, and the body's
+/// checksum. Every header check is made when it is parsed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FilmHead {
+    /// What render this is part of.
+    pub key: RenderKey,
+    /// The pixels covered.
+    pub window: strata::render::Tile,
+    /// The sample indices covered.
+    pub samples: std::ops::Range<u32>,
+    /// Pixels beyond the window on each side whose sums the film holds.
+    pub border: u32,
+    /// FNV-1a 64 of the body.
+    pub checksum: u64,
+}
+
+impl FilmHead {
+    /// The pixels the body covers: the window and its border, clipped to
+    /// the image.
     #[must_use]
-    pub fn to_bytes(&self) -> Vec<u8> {
-        let mut body = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL);
-        encode_pixels(&self.pixels, &mut body);
+    pub fn extent(&self) -> strata::render::Tile {
+        super::extent(
+            self.window,
+            self.border,
+            self.key.width(),
+            self.key.height(),
+        )
+    }
+
+    /// The header's text, the empty line that ends it included.
+    fn text(&self) -> String {
         let mut head = String::new();
         writeln!(head, "{MAGIC}").unwrap();
         for (k, v) in self.key.fields() {
@@ -35,137 +69,70 @@ impl Film {
         if self.border > 0 {
             writeln!(head, "border={}", self.border).unwrap();
         }
-        writeln!(head, "checksum={:016x}", crate::hash::fnv1a(&body)).unwrap();
+        writeln!(head, "checksum={:016x}", self.checksum).unwrap();
         writeln!(head).unwrap();
-        let mut out = head.into_bytes();
-        out.extend_from_slice(&body);
+        head
+    }
+}
+
+impl Film {
+    /// The header of this film (its checksum computed).
+    #[must_use]
+    pub fn head(&self) -> FilmHead {
+        let mut sum = crate::hash::Fnv::default();
+        let mut buf = Vec::with_capacity(CHUNK_PIXELS * BYTES_PER_PIXEL);
+        for chunk in self.pixels.chunks(CHUNK_PIXELS) {
+            buf.clear();
+            encode_pixels(chunk, &mut buf);
+            sum.bytes(&buf);
+        }
+        FilmHead {
+            key: self.key.clone(),
+            window: self.window,
+            samples: self.samples.clone(),
+            border: self.border,
+            checksum: sum.finish(),
+        }
+    }
+
+    /// The file bytes: header and body.
+    #[must_use]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.pixels.len() * BYTES_PER_PIXEL + 1024);
+        self.write_to(&mut out)
+            .expect("writing to a Vec does not fail");
         out
+    }
+
+    /// Writes the file (header and body) to `w` a chunk at a time: no
+    /// second copy of the pixels.
+    pub fn write_to(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
+        w.write_all(self.head().text().as_bytes())?;
+        let mut buf = Vec::with_capacity(CHUNK_PIXELS * BYTES_PER_PIXEL);
+        for chunk in self.pixels.chunks(CHUNK_PIXELS) {
+            buf.clear();
+            encode_pixels(chunk, &mut buf);
+            w.write_all(&buf)?;
+        }
+        Ok(())
     }
 
     /// Parses a film file's bytes; errors say what is wrong, not where
     /// (the caller adds the file name).
     pub fn from_bytes(bytes: &[u8]) -> Result<Film> {
-        let not_film = || anyhow::anyhow!("not a Strata film (no `{MAGIC}` line)");
-        let first = bytes
-            .iter()
-            .position(|&b| b == b'\n')
-            .ok_or_else(not_film)?;
-        if &bytes[..first] != MAGIC.as_bytes() {
-            if bytes.starts_with(b"strata-film ") {
-                bail!(
-                    "a film of another format version (`{}`; this build reads `{MAGIC}`)",
-                    String::from_utf8_lossy(&bytes[..first])
-                );
-            }
-            return Err(not_film());
-        }
-        // The header's end is searched from the magic line's newline on, so
-        // an empty header is found as such, not before the magic line ends.
-        let end =
-            first + find(&bytes[first..], b"\n\n").context("truncated: the header does not end")?;
-        let head = std::str::from_utf8(&bytes[first + 1..end.max(first + 1)])
-            .context("header is not UTF-8")?;
-        let body = &bytes[end + 2..];
-        let mut map: Vec<(&str, &str)> = Vec::new();
-        for line in head.lines() {
-            let (k, v) = line
-                .split_once('=')
-                .with_context(|| format!("header line `{line}` is not key=value"))?;
-            if map.iter().any(|(seen, _)| *seen == k) {
-                bail!("header repeats `{k}`");
-            }
-            map.push((k, v));
-        }
-        let get = |name: &str| -> Result<&str> {
-            map.iter()
-                .find(|(k, _)| *k == name)
-                .map(|(_, v)| *v)
-                .with_context(|| format!("header has no `{name}`"))
-        };
-        let fields: Vec<(&'static str, String)> = KEY_FIELDS
-            .iter()
-            .map(|&k| get(k).map(|v| (k, v.to_string())))
-            .collect::<Result<_>>()?;
-        let (width, height) = get("size")?
-            .split_once('x')
-            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-            .context("bad `size`")?;
-        let spp: u32 = get("spp")?.parse().context("bad `spp`")?;
-        let window = parse_window(get("window")?).context("bad `window`")?;
-        let samples = parse_samples(get("samples")?).context("bad `samples`")?;
-        if width == 0 || height == 0 || spp == 0 {
-            bail!("empty image or zero spp");
-        }
-        // The limits `strata render` accepts, so a hostile header cannot
-        // ask a merge for a huge allocation.
-        if width > MAX_WIDTH
-            || height > MAX_WIDTH
-            || width as u64 * height as u64 > MAX_PIXELS
-            || spp > MAX_SPP
-        {
-            bail!("size {width}x{height} or spp {spp} is beyond what strata renders");
-        }
-        if window.x0 + window.width > width || window.y0 + window.height > height {
-            bail!(
-                "window {} is outside the {width}x{height} image",
-                window_text(window)
-            );
-        }
-        if samples.end > spp {
-            bail!(
-                "samples {}..{} exceed spp {spp}",
-                samples.start,
-                samples.end
-            );
-        }
-        let adaptive = parse_adaptive(get("adaptive")?).context("bad `adaptive`")?;
-        if let Some(a) = adaptive
-            && (a.max() != spp || samples != (0..spp))
-        {
-            bail!(
-                "an adaptive film must cover samples 0..{spp} with max={spp}, not samples {}..{} \
-                 with max={}",
-                samples.start,
-                samples.end,
-                a.max()
-            );
-        }
-        let border = match map.iter().find(|(k, _)| *k == "border") {
-            None => 0,
-            Some((_, v)) => v
-                .parse::<u32>()
-                .ok()
-                .filter(|&b| b > 0)
-                .with_context(|| format!("bad `border`: `{v}`"))?,
-        };
-        let key = RenderKey {
-            fields,
-            width,
-            height,
-            spp,
-            adaptive,
-        };
-        check_border(&key, border)?;
-        let extent = super::extent(window, border, width, height);
-        let need = extent.area() * BYTES_PER_PIXEL;
-        if body.len() != need {
-            bail!(
-                "truncated or padded: {} bytes of pixels where the window and its border need \
-                 {need}",
-                body.len()
-            );
-        }
-        let sum = u64::from_str_radix(get("checksum")?, 16).context("bad `checksum`")?;
-        if sum != crate::hash::fnv1a(body) {
+        let end = header_end(bytes)?;
+        let head = parse_head(&bytes[..end])?;
+        let body = &bytes[end..];
+        check_body_len(&head, body.len() as u64)?;
+        if head.checksum != crate::hash::fnv1a(body) {
             bail!("corrupt: the pixel checksum does not match");
         }
-        let pixels = decode_pixels(body);
         let film = Film {
-            key,
-            window,
-            samples,
-            border,
-            pixels,
+            key: head.key,
+            window: head.window,
+            samples: head.samples,
+            border: head.border,
+            pixels: decode_pixels(body),
         };
         check_counts(&film)?;
         Ok(film)
@@ -179,6 +146,223 @@ impl Film {
     }
 }
 
+/// A film file opened for a merge: its header read and checked, its body
+/// not yet read.
+pub struct FilmFile {
+    /// The file.
+    pub path: std::path::PathBuf,
+    /// Its header.
+    pub head: FilmHead,
+    /// Where the body starts.
+    body_at: u64,
+}
+
+impl FilmFile {
+    /// Reads and checks a film's header and its body's length (not the
+    /// body). Errors name the file.
+    pub fn open(path: &Path) -> Result<FilmFile> {
+        let name = || format!("`{}`", path.display());
+        let file = File::open(path).with_context(|| format!("cannot read `{}`", path.display()))?;
+        let len = file.metadata().map(|m| m.len()).with_context(name)?;
+        let mut start = Vec::new();
+        file.take(MAX_HEADER_BYTES as u64 + 2)
+            .read_to_end(&mut start)
+            .with_context(name)?;
+        let end = header_end(&start).with_context(name)?;
+        let head = parse_head(&start[..end]).with_context(name)?;
+        check_body_len(&head, len - end as u64).with_context(name)?;
+        Ok(FilmFile {
+            path: path.to_path_buf(),
+            head,
+            body_at: end as u64,
+        })
+    }
+
+    /// Streams the body a chunk of pixels at a time to `each` (with the
+    /// index of the chunk's first pixel in the extent), then checks the
+    /// checksum: a corrupt body is refused after it was read, so a caller
+    /// must not keep what it added. Errors name the file.
+    pub fn for_each_chunk(
+        &self,
+        mut each: impl FnMut(usize, &[PixelSum]) -> Result<()>,
+    ) -> Result<()> {
+        let name = || format!("`{}`", self.path.display());
+        let mut file = File::open(&self.path).with_context(name)?;
+        file.seek(SeekFrom::Start(self.body_at))
+            .with_context(name)?;
+        let mut sum = crate::hash::Fnv::default();
+        let mut buf = vec![0u8; CHUNK_PIXELS * BYTES_PER_PIXEL];
+        let total = self.head.extent().area();
+        let mut at = 0;
+        while at < total {
+            let n = (total - at).min(CHUNK_PIXELS);
+            let bytes = &mut buf[..n * BYTES_PER_PIXEL];
+            file.read_exact(bytes)
+                .with_context(|| format!("{}: the body ends early", name()))?;
+            sum.bytes(bytes);
+            each(at, &decode_pixels(bytes)).with_context(name)?;
+            at += n;
+        }
+        if sum.finish() != self.head.checksum {
+            bail!("{}: corrupt: the pixel checksum does not match", name());
+        }
+        Ok(())
+    }
+}
+
+/// Where the header of a film's bytes ends (just past its empty line),
+/// after checking the magic line.
+fn header_end(bytes: &[u8]) -> Result<usize> {
+    let not_film = || anyhow::anyhow!("not a Strata film (no `{MAGIC}` line)");
+    let first = bytes
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or_else(not_film)?;
+    if &bytes[..first] != MAGIC.as_bytes() {
+        if bytes.starts_with(b"strata-film ") {
+            bail!(
+                "a film of another format version (`{}`; this build reads `{MAGIC}`)",
+                clip(&String::from_utf8_lossy(&bytes[..first]))
+            );
+        }
+        return Err(not_film());
+    }
+    // The header's end is searched from the magic line's newline on, so
+    // an empty header is found as such, not before the magic line ends.
+    match find(&bytes[first..], b"\n\n") {
+        Some(at) if first + at + 2 <= MAX_HEADER_BYTES + 2 => Ok(first + at + 2),
+        _ if bytes.len() > MAX_HEADER_BYTES => {
+            bail!(
+                "the header is longer than {} KB: not a film",
+                MAX_HEADER_BYTES / 1024
+            )
+        }
+        _ => bail!("truncated: the header does not end"),
+    }
+}
+
+/// A header value as errors quote it: at most 80 characters.
+pub(super) fn clip(v: &str) -> String {
+    match v.char_indices().nth(80) {
+        Some((at, _)) => format!("{}… ({} bytes)", &v[..at], v.len()),
+        None => v.to_string(),
+    }
+}
+
+/// The body holds exactly the extent's pixels.
+fn check_body_len(head: &FilmHead, len: u64) -> Result<()> {
+    let need = head.extent().area() as u64 * BYTES_PER_PIXEL as u64;
+    if len != need {
+        bail!(
+            "truncated or padded: {len} bytes of pixels where the window and its border need \
+             {need}"
+        );
+    }
+    Ok(())
+}
+
+/// Parses and checks a header (the bytes up to and with its empty line).
+fn parse_head(bytes: &[u8]) -> Result<FilmHead> {
+    // The magic line and its newline, then lines, then the empty line
+    // (whose newline is the last byte; the last line's is the one before).
+    let first = (MAGIC.len() + 1).min(bytes.len() - 1);
+    let head =
+        std::str::from_utf8(&bytes[first..bytes.len() - 1]).context("header is not UTF-8")?;
+    let mut map: Vec<(&str, &str)> = Vec::new();
+    for line in head.lines() {
+        let (k, v) = line
+            .split_once('=')
+            .with_context(|| format!("header line `{}` is not key=value", clip(line)))?;
+        if map.iter().any(|(seen, _)| *seen == k) {
+            bail!("header repeats `{}`", clip(k));
+        }
+        map.push((k, v));
+    }
+    let get = |name: &str| -> Result<&str> {
+        map.iter()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| *v)
+            .with_context(|| format!("header has no `{name}`"))
+    };
+    let bad = |name: &str| {
+        let v = get(name).unwrap_or_default();
+        format!("bad `{name}`: `{}`", clip(v))
+    };
+    let fields: Vec<(&'static str, String)> = KEY_FIELDS
+        .iter()
+        .map(|&k| get(k).map(|v| (k, v.to_string())))
+        .collect::<Result<_>>()?;
+    let (width, height) = get("size")?
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .with_context(|| bad("size"))?;
+    let spp: u32 = get("spp")?.parse().with_context(|| bad("spp"))?;
+    let window = parse_window(get("window")?).with_context(|| bad("window"))?;
+    let samples = parse_samples(get("samples")?).with_context(|| bad("samples"))?;
+    if width == 0 || height == 0 || spp == 0 {
+        bail!("empty image or zero spp");
+    }
+    // The limits `strata render` accepts, so a hostile header cannot
+    // ask a merge for a huge allocation.
+    if width > MAX_WIDTH
+        || height > MAX_WIDTH
+        || width as u64 * height as u64 > MAX_PIXELS
+        || spp > MAX_SPP
+    {
+        bail!("size {width}x{height} or spp {spp} is beyond what strata renders");
+    }
+    if window.x0 as u64 + window.width as u64 > width as u64
+        || window.y0 as u64 + window.height as u64 > height as u64
+    {
+        bail!(
+            "window {} is outside the {width}x{height} image",
+            window_text(window)
+        );
+    }
+    if samples.end > spp {
+        bail!(
+            "samples {}..{} exceed spp {spp}",
+            samples.start,
+            samples.end
+        );
+    }
+    let adaptive = parse_adaptive(get("adaptive")?).with_context(|| bad("adaptive"))?;
+    if let Some(a) = adaptive
+        && (a.max() != spp || samples != (0..spp))
+    {
+        bail!(
+            "an adaptive film must cover samples 0..{spp} with max={spp}, not samples {}..{} \
+             with max={}",
+            samples.start,
+            samples.end,
+            a.max()
+        );
+    }
+    let border = match map.iter().find(|(k, _)| *k == "border") {
+        None => 0,
+        Some((_, v)) => v
+            .parse::<u32>()
+            .ok()
+            .filter(|&b| b > 0)
+            .with_context(|| bad("border"))?,
+    };
+    let key = RenderKey {
+        fields,
+        width,
+        height,
+        spp,
+        adaptive,
+    };
+    check_border(&key, border)?;
+    let checksum = u64::from_str_radix(get("checksum")?, 16).with_context(|| bad("checksum"))?;
+    Ok(FilmHead {
+        key,
+        window,
+        samples,
+        border,
+        checksum,
+    })
+}
 /// Appends the body records of `pixels` to `out` (64 bytes each, the
 /// layout in the module docs).
 pub(crate) fn encode_pixels(pixels: &[PixelSum], out: &mut Vec<u8>) {
@@ -247,36 +431,66 @@ pub(super) fn check_border(key: &RenderKey, border: u32) -> Result<()> {
 /// ([`Adaptive::can_take`](strata::render::Adaptive::can_take)). A merge
 /// checks the same of films built in code.
 pub(super) fn check_counts(film: &Film) -> Result<()> {
-    let (key, samples) = (&film.key, &film.samples);
-    let n = samples.end - samples.start;
-    if key.adaptive.is_some() && *samples != (0..key.spp) {
-        bail!(
-            "an adaptive film must cover samples 0..{}, not {}..{}",
-            key.spp,
-            samples.start,
-            samples.end
-        );
-    }
-    let possible = |t: u32| match key.adaptive {
-        None => t == n,
-        Some(a) => a.can_take(t),
+    let head = FilmHead {
+        key: film.key.clone(),
+        window: film.window,
+        samples: film.samples.clone(),
+        border: film.border,
+        checksum: 0,
     };
-    let extent = film.extent();
-    if film.pixels.len() != extent.area() {
+    let check = CountCheck::new(&head)?;
+    if film.pixels.len() != check.extent.area() {
         bail!(
             "{} pixels where the window and its border have {}",
             film.pixels.len(),
-            extent.area()
+            check.extent.area()
         );
     }
-    let w = film.window;
-    for (i, p) in film.pixels.iter().enumerate() {
+    film.pixels
+        .iter()
+        .enumerate()
+        .try_for_each(|(i, p)| check.pixel(i, p))
+}
+
+/// [`check_counts`] a pixel at a time, for a body read in chunks.
+pub(super) struct CountCheck<'h> {
+    head: &'h FilmHead,
+    /// The body's pixels.
+    pub extent: strata::render::Tile,
+}
+
+impl<'h> CountCheck<'h> {
+    pub fn new(head: &'h FilmHead) -> Result<Self> {
+        let (key, samples) = (&head.key, &head.samples);
+        if key.adaptive.is_some() && *samples != (0..key.spp) {
+            bail!(
+                "an adaptive film must cover samples 0..{}, not {}..{}",
+                key.spp,
+                samples.start,
+                samples.end
+            );
+        }
+        Ok(CountCheck {
+            head,
+            extent: head.extent(),
+        })
+    }
+
+    /// Checks pixel `i` of the extent (row-major).
+    pub fn pixel(&self, i: usize, p: &PixelSum) -> Result<()> {
+        let (key, samples, w) = (&self.head.key, &self.head.samples, self.head.window);
+        let n = samples.end - samples.start;
+        let extent = self.extent;
         let (x, y) = (
             extent.x0 + (i % extent.width as usize) as u32,
             extent.y0 + (i / extent.width as usize) as u32,
         );
         let owned = (w.x0..w.x0 + w.width).contains(&x) && (w.y0..w.y0 + w.height).contains(&y);
-        if owned && !possible(p.taken()) {
+        let possible = match key.adaptive {
+            None => p.taken() == n,
+            Some(a) => a.can_take(p.taken()),
+        };
+        if owned && !possible {
             let want = match key.adaptive {
                 None => n.to_string(),
                 Some(a) => format!(
@@ -299,8 +513,8 @@ pub(super) fn check_counts(film: &Film) -> Result<()> {
                 p.taken()
             );
         }
+        Ok(())
     }
-    Ok(())
 }
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {

@@ -67,12 +67,13 @@ use strata::render::{PixelSum, Tile};
 use crate::image_io::{ImageFormat, Transfer, image_bytes};
 
 pub use format::{BYTES_PER_PIXEL, MAGIC};
+pub use format::{FilmFile, FilmHead};
 pub(crate) use format::{decode_pixels, encode_pixels};
 pub use key::{
     KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_samples, samples_text, version,
     window_text,
 };
-pub use merge::{merge, merge_whole};
+pub use merge::{merge, merge_files, merge_whole};
 
 /// A part of a render: the pixels of `window`, samples `samples` of each.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -184,7 +185,16 @@ impl Film {
                 self.border
             );
         }
-        let pixels: Vec<glam::Vec3> = self.window_pixels().iter().map(|p| p.mean()).collect();
+        // Means straight from the extent's rows: no copy of the sums.
+        let (e, w) = (self.extent(), self.window);
+        let pixels: Vec<glam::Vec3> = (w.y0..w.y0 + w.height)
+            .flat_map(|y| {
+                let at = (y - e.y0) as usize * e.width as usize + (w.x0 - e.x0) as usize;
+                self.pixels[at..at + w.width as usize]
+                    .iter()
+                    .map(|p| p.mean())
+            })
+            .collect();
         image_bytes(
             format,
             self.window.width,

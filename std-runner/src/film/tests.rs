@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use strata::render::{PixelSum, Tile};
 
 use super::key::parse_filter;
-use super::{Film, KEY_FIELDS, RenderKey, filter_text, merge};
+use super::{Film, KEY_FIELDS, RenderKey, filter_text, merge, merge_whole};
 
 fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
     let job_key = |k: &str| match k {
@@ -306,8 +306,14 @@ fn staged_merges_join_cells_into_one_window_and_range() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("a staged merge must join"), "{e}");
-    // Spanning the whole image, the gap is the finished film's.
+    // Spanning the whole image, the gap says the staged rule too.
     let e = merge(&[parts[0].clone(), parts[4].clone()], &names[..2])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("pixel (0, 0) has 4 of those 8 samples"), "{e}");
+    assert!(e.contains("the whole render needs every part"), "{e}");
+    // An image needs the whole render.
+    let e = merge_whole(&[parts[0].clone(), parts[4].clone()], &names[..2])
         .unwrap_err()
         .to_string();
     assert!(
@@ -351,4 +357,69 @@ fn filter_texts_parse_back_to_their_filters() {
     ] {
         assert_eq!(parse_filter(bad), None, "{bad}");
     }
+}
+
+#[test]
+fn file_merges_stream_bodies_and_match_in_memory_merges() {
+    // Parts larger than a read chunk (16 Ki pixels), with borders, so
+    // chunks end mid-row and border sums cross parts.
+    let q = |x0, y0, s: Range<u32>| with_border(film(300, 140, tile(x0, y0, 150, 70), s), 1.0);
+    let parts = [
+        q(0, 0, 0..3),
+        q(0, 0, 3..8),
+        q(150, 0, 0..8),
+        q(0, 70, 0..8),
+        q(150, 70, 0..8),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let names: Vec<PathBuf> = (0..parts.len())
+        .map(|i| dir.path().join(format!("p{i}.film")))
+        .collect();
+    for (p, n) in parts.iter().zip(&names) {
+        std::fs::write(n, p.to_bytes()).unwrap();
+    }
+    let want = merge(&parts, &names).unwrap();
+    assert_eq!(super::merge_files(&names, false).unwrap(), want);
+    assert_eq!(super::merge_files(&names, true).unwrap(), want);
+    // A staged subset, and the image rule.
+    assert_eq!(
+        super::merge_files(&names[..3], false).unwrap(),
+        merge(&parts[..3], &names[..3]).unwrap()
+    );
+    let e = format!("{:#}", super::merge_files(&names[..3], true).unwrap_err());
+    assert!(e.contains("an image needs the whole render"), "{e}");
+    // A flipped byte deep in a body (past the first chunk) is found.
+    let mut bytes = std::fs::read(&names[3]).unwrap();
+    let at = bytes.len() - 100;
+    bytes[at] ^= 1;
+    std::fs::write(&names[3], &bytes).unwrap();
+    let e = format!("{:#}", super::merge_files(&names, false).unwrap_err());
+    assert!(
+        e.contains("p3.film") && e.contains("checksum does not match"),
+        "{e}"
+    );
+    // A body one record short is refused from its header, before any
+    // body is read.
+    std::fs::write(&names[3], &bytes[..bytes.len() - 64]).unwrap();
+    let e = format!("{:#}", super::merge_files(&names, false).unwrap_err());
+    assert!(
+        e.contains("p3.film") && e.contains("truncated or padded"),
+        "{e}"
+    );
+}
+
+#[test]
+fn header_values_are_clipped_in_messages() {
+    let f = film(7, 5, tile(2, 1, 3, 4), 2..5);
+    let text = String::from_utf8_lossy(&f.to_bytes()).into_owned();
+    let with_spp = |n: usize| text.replacen("spp=8", &format!("spp={}", "9".repeat(n)), 1);
+    let e = refused(with_spp(10_000).as_bytes());
+    assert!(e.contains("bad `spp`") && e.len() < 300, "{e:.300}");
+    let e = refused(with_spp(100_000).as_bytes());
+    assert!(e.contains("header is longer than 64 KB"), "{e:.300}");
+    let mut other = f.clone();
+    other.key.fields[1].1 = "x".repeat(100_000);
+    let names = [PathBuf::from("a"), PathBuf::from("b")];
+    let e = merge(&[f, other], &names).unwrap_err().to_string();
+    assert!(e.contains("(100000 bytes)") && e.len() < 400, "{}", e.len());
 }
