@@ -422,6 +422,41 @@ fn bad_scene_files_name_file_line_and_field() {
     assert!(e.contains("materials.lamp.emit"), "{e}");
     let e = broken(d, "width = 48", "width = 0");
     assert!(e.contains("render.width"), "{e}");
+    // Accepted once but never honoured: a sphere too big for f32's
+    // squares, one too small to resolve at the scene's scale, and
+    // radiances past the film's clamp.
+    let e = broken(
+        d,
+        "radius = 0.3\nmaterial = \"lamp\"",
+        "radius = 1e20\nmaterial = \"lamp\"",
+    );
+    assert!(e.contains("radius") && e.contains("never be drawn"), "{e}");
+    let e = broken(d, "center = [0.0, 2.0, 0.0]", "center = [0.0, 2.0, 2e18]");
+    assert!(e.contains(".center") && e.contains("never be drawn"), "{e}");
+    let e = broken(
+        d,
+        "center = [1.0, 0.0, -2.0]\nradius = 0.4",
+        "center = [1.0, 0.0, -1e6]\nradius = 1e-4",
+    );
+    assert!(
+        e.contains(&format!(
+            ":{}:",
+            line_of("radius = 0.4\nmaterial = \"nphong\"")
+        )) && e.contains("spheres[9].radius")
+            && e.contains("below what f32 resolves"),
+        "{e}"
+    );
+    let e = broken(d, "emit = [10.0, 10.0, 10.0]", "emit = [10.0, 1e30, 10.0]");
+    assert!(
+        e.contains("materials.lamp.emit") && e.contains("clamps every sample"),
+        "{e}"
+    );
+    let e = broken(
+        d,
+        "background = [0.1, 0.1, 0.12]",
+        "background = [0.1, 7e4, 0.12]",
+    );
+    assert!(e.contains("background") && e.contains("65536"), "{e}");
     let e = broken(d, "[camera]", "[camera]\nzoom = 2.0");
     assert!(
         e.contains("camera") && e.contains("zoom"),

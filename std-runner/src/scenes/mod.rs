@@ -273,6 +273,18 @@ mod tests {
                     .iter()
                     .all(|&m| (m as usize) < s.materials.len())
             );
+            // What a scene file must satisfy: the kernel's range, and every
+            // sphere resolved from the camera (and here from every sphere).
+            let reach = s
+                .spheres
+                .iter()
+                .map(|p| p.center.length() + p.radius)
+                .fold(s.camera.look_from.length(), f32::max);
+            for p in &s.spheres {
+                assert!(p.is_resolved_within(reach), "{name}: {p:?}");
+                let max = p.center.abs().max_element().max(p.radius);
+                assert!(max <= strata::trace::BVH_MAX_COORDINATE, "{name}: {p:?}");
+            }
         }
         assert!(built_in("nope").is_none());
     }

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use glam::Vec3;
 use serde::Deserialize;
-use strata::render::{Material, MaterialError, Texture};
+use strata::render::{MAX_SAMPLE_VALUE, Material, MaterialError, Texture};
 use toml::Spanned;
 
 use super::textures::Named;
@@ -218,7 +218,7 @@ impl Table<'_> {
             FileMaterial::BlinnNormalized(l) => self.lobe(l, textures, lobe!(BlinnNormalized))?,
             FileMaterial::CookTorrance(c) => self.cook_torrance(c, textures)?,
             FileMaterial::Light { emit } => {
-                let emit = self.colour(*emit, f32::MAX, "emit")?;
+                let emit = self.colour(*emit, MAX_SAMPLE_VALUE, "emit")?;
                 (Material::DiffuseLight { emit }, None)
             }
         })

@@ -116,7 +116,8 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
     let background = spheres::background(&src, file.background.as_ref())?;
     let textures = textures::textures(&src, &file.textures)?;
     let materials = materials::materials(&src, &file.materials, &textures.named)?;
-    let (spheres, sphere_material) = spheres::spheres(&src, &file.spheres, &materials.index)?;
+    let (spheres, sphere_material) =
+        spheres::spheres(&src, &file.spheres, &materials.index, camera.look_from)?;
     Ok(SceneData {
         name: path
             .file_stem()
@@ -196,7 +197,15 @@ impl Source<'_> {
             Err(self.error(
                 span,
                 field,
-                format!("each component must be in [0, {max}], got {v}"),
+                format!(
+                    "each component must be in [0, {max}], got {v}{}",
+                    if max == strata::render::MAX_SAMPLE_VALUE {
+                        // Brighter would be clamped without a word.
+                        " (the film clamps every sample to 65536)"
+                    } else {
+                        ""
+                    }
+                ),
             ))
         }
     }

@@ -4,8 +4,8 @@
 use std::collections::BTreeMap;
 
 use serde::Deserialize;
-use strata::render::Background;
-use strata::trace::Sphere;
+use strata::render::{Background, MAX_SAMPLE_VALUE};
+use strata::trace::{BVH_MAX_COORDINATE, SPHERE_MIN_RADIUS_RATIO, Sphere};
 use toml::Spanned;
 
 use super::{SceneFileError, Source};
@@ -45,7 +45,7 @@ pub(super) fn background(
         )),
         FileBackground::Colour(c) => Ok(Background::Flat(src.colour(
             *c,
-            f32::MAX,
+            MAX_SAMPLE_VALUE,
             b.span(),
             "background",
         )?)),
@@ -53,11 +53,14 @@ pub(super) fn background(
 }
 
 /// The spheres and each one's material index, looked up by name in
-/// `materials`; a scene needs at least one.
+/// `materials`; a scene needs at least one, each within the kernel's range
+/// and resolved from the camera at `look_from`
+/// (`Sphere::is_resolved_within`).
 pub(super) fn spheres(
     src: &Source<'_>,
     section: &[Spanned<FileSphere>],
     materials: &BTreeMap<&str, u32>,
+    look_from: glam::Vec3,
 ) -> Result<(Vec<Sphere>, Vec<u32>), SceneFileError> {
     if section.is_empty() {
         return Err(src.error(0..0, "spheres", "a scene needs at least one sphere".into()));
@@ -75,6 +78,27 @@ pub(super) fn spheres(
                 format!("must be positive and finite, got {r}"),
             ));
         }
+        let big = |x: f32| x.abs() > BVH_MAX_COORDINATE;
+        if center.to_array().into_iter().any(big) {
+            return Err(src.error(
+                s.center.span(),
+                &format!("spheres[{i}].center"),
+                format!(
+                    "{center} is beyond ±{BVH_MAX_COORDINATE:e}: the intersection squares \
+                     distances, which overflow f32 there, and the sphere would never be drawn"
+                ),
+            ));
+        }
+        if big(r) {
+            return Err(src.error(
+                s.radius.span(),
+                &format!("spheres[{i}].radius"),
+                format!(
+                    "{r:e} is beyond {BVH_MAX_COORDINATE:e}: the intersection squares it, which \
+                     overflows f32, and the sphere would never be drawn"
+                ),
+            ));
+        }
         let name = s.material.get_ref();
         let Some(&m) = materials.get(name.as_str()) else {
             return Err(src.error(
@@ -85,6 +109,25 @@ pub(super) fn spheres(
         };
         spheres.push(Sphere::new(center, r));
         sphere_material.push(m);
+    }
+    // Checked for camera rays, which draw every silhouette the image shows
+    // directly; rays from spheres farther out blur small spheres by up to
+    // 2^-24 of that distance, as documented on `Sphere`.
+    let reach = look_from.length();
+    if let Some(i) = spheres.iter().position(|s| !s.is_resolved_within(reach)) {
+        let s = &spheres[i];
+        return Err(src.error(
+            section[i].get_ref().radius.span(),
+            &format!("spheres[{i}].radius"),
+            format!(
+                "{:e} is below what f32 resolves this far from the camera ({:e}): its \
+                 silhouette would be off by many radii; the radius must be at least {:e} \
+                 (2^-20 of the distance), or the scene must be scaled or moved nearer 0",
+                s.radius,
+                (s.center - look_from).length(),
+                SPHERE_MIN_RADIUS_RATIO * (reach + s.center.length())
+            ),
+        ));
     }
     Ok((spheres, sphere_material))
 }
