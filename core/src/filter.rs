@@ -576,7 +576,11 @@ impl PixelFilter {
         }
     }
 
-    /// The `u` that [`PixelFilter::sample`] maps to offset `p`.
+    /// The `u` that [`PixelFilter::sample`] maps to offset `p`, in the
+    /// samplers' domain `[0, 1)²`: an offset at or past the filter's edge
+    /// (or rounding there) gives the nearest `u` inside, `0` or
+    /// [`ONE_MINUS_EPSILON`](crate::rng::ONE_MINUS_EPSILON); a NaN
+    /// component stays NaN.
     ///
     /// ```
     /// use glam::Vec2;
@@ -584,16 +588,27 @@ impl PixelFilter {
     /// let t = PixelFilter::new(FilterKind::Tent, 1.5).unwrap();
     /// let u = Vec2::new(0.2, 0.9);
     /// assert!((t.invert(t.sample(u).offset) - u).abs().max_element() < 1e-5);
+    /// // The edge itself is not u = 1, which no sampler draws.
+    /// assert!(t.invert(Vec2::splat(1.5)).max_element() < 1.0);
     /// ```
     #[inline]
     #[must_use]
     pub fn invert(&self, p: Vec2) -> Vec2 {
         let r = self.radius;
-        match &self.table {
+        let u = match &self.table {
             None if self.kind == FilterKind::Box => (p / r + Vec2::ONE) * 0.5,
             None => Vec2::new(invert_tent(p.x, r), invert_tent(p.y, r)),
             Some(t) => t.invert((p / r + Vec2::ONE) * 0.5),
-        }
+        };
+        // A NaN offset gives NaN (the table's lookup would not).
+        let unit = |x: f32, p: f32| {
+            if p.is_nan() {
+                f32::NAN
+            } else {
+                x.clamp(0.0, crate::rng::ONE_MINUS_EPSILON)
+            }
+        };
+        Vec2::new(unit(u.x, p.x), unit(u.y, p.y))
     }
 
     /// The sample the renderer takes for pixel-sampler value `u`: the
@@ -768,6 +783,30 @@ mod tests {
                     (back - u).abs().max_element() < 2e-4,
                     "{kind:?}: {u} -> {back}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn invert_stays_in_the_unit_square() {
+        for kind in FilterKind::ALL {
+            for r in [kind.default_radius(), 0.5, 1.0, 2.7] {
+                let f = PixelFilter::new(kind, r).unwrap();
+                // The edges, just inside and outside them, far outside,
+                // and the largest samples.
+                let edge = [r, -r, r * (1.0 - f32::EPSILON), r * 1.5, 1e30, -1e30, 0.0];
+                for &x in &edge {
+                    for &y in &edge {
+                        let u = f.invert(Vec2::new(x, y));
+                        assert!(
+                            u.cmpge(Vec2::ZERO).all() && u.cmplt(Vec2::ONE).all(),
+                            "{kind:?} r {r}: ({x}, {y}) -> {u}"
+                        );
+                    }
+                }
+                let top = f.sample(Vec2::splat(crate::rng::ONE_MINUS_EPSILON)).offset;
+                assert!(f.invert(top).cmplt(Vec2::ONE).all(), "{kind:?}");
+                assert!(f.invert(Vec2::new(f32::NAN, 0.0)).x.is_nan(), "{kind:?}");
             }
         }
     }

@@ -176,21 +176,26 @@ pub fn invert_uniform_hemisphere(w: Vec3) -> Vec2 {
 #[inline]
 #[must_use]
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let (r, d) = concentric(u);
-    // z from the disk radius, not from the rounded point: only a radius of
-    // exactly 1 lands on the rim, and z keeps its accuracy near it
-    // (√((1 − r)(1 + r)), where 1 − r is exact for r ≥ ½).
-    let z = safe_sqrt((1.0 - r) * (1.0 + r));
+    let (_, d) = concentric(u);
+    // z = √((1 − r)(1 + r)) with 1 − r taken exactly from u, not from the
+    // rounded point or radius: the radius is |2uₖ − 1| for the wider
+    // coordinate k, and 1 − |2uₖ − 1| = 2 min(uₖ, 1 − uₖ), exact (1 − uₖ
+    // by Sterbenz where it is the smaller), while 2uₖ − 1 itself rounds
+    // for uₖ < ¼, which is the rim, where z is all in 1 − r.
+    let wide = (2.0 * u.x - 1.0).abs() > (2.0 * u.y - 1.0).abs();
+    let k = if wide { u.x } else { u.y };
+    let one_minus_r = 2.0 * k.min(1.0 - k);
+    let z = safe_sqrt(one_minus_r * (2.0 - one_minus_r));
     Vec3::new(d.x, d.y, z)
 }
 
 /// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
 /// steradian where `w.z ≥ 0`, else `0` (and `0` for NaN).
 ///
-/// A sample exactly on the rim (`w.z = 0`: a disk radius of exactly 1,
-/// from a coordinate of `u` below 2⁻²⁵, which rounds `2u − 1` to −1;
-/// about 1 in 10⁷ uniform `u`) has density 0 and contributes nothing: an
-/// estimator must skip samples whose pdf is 0 rather than divide by it.
+/// A sample exactly on the rim (`w.z = 0`, from a coordinate of `u` of
+/// exactly 0: 1 in 2²³ of the samplers' values) has density 0 and
+/// contributes nothing: an estimator must skip samples whose pdf is 0
+/// rather than divide by it.
 #[doc(alias = "square_to_cosine_hemisphere_pdf")]
 #[inline]
 #[must_use]
@@ -203,12 +208,23 @@ pub fn pdf_cosine_hemisphere(w: Vec3) -> f32 {
 }
 
 /// The inverse of [`sample_cosine_hemisphere`]: the concentric-disk inverse
-/// of `(w.x, w.y)`.
+/// of `(w.x, w.y)`, with the disk radius's distance from the rim taken
+/// from `w.z` (which keeps it where the radius rounds to 1). For a unit
+/// `w` of the upper hemisphere.
 #[doc(alias = "cosine_hemisphere_to_square")]
 #[inline]
 #[must_use]
 pub fn invert_cosine_hemisphere(w: Vec3) -> Vec2 {
-    invert_concentric_disk(Vec2::new(w.x, w.y))
+    let p = Vec2::new(w.x, w.y);
+    let r = crate::float::sqrtf(p.x * p.x + p.y * p.y);
+    // Near the rim 1 − r is all of z's information and r has rounded it
+    // away: 1 − r = z² / (1 + r) instead.
+    let one_minus_r = if r > 0.5 {
+        w.z * w.z / (1.0 + r)
+    } else {
+        1.0 - r
+    };
+    invert_concentric(p, r, one_minus_r)
 }
 
 // ------------------------------------------------------- concentric disk
@@ -275,6 +291,14 @@ pub fn pdf_concentric_disk(p: Vec2) -> f32 {
 #[must_use]
 pub fn invert_concentric_disk(p: Vec2) -> Vec2 {
     let r = crate::float::sqrtf(p.x * p.x + p.y * p.y);
+    invert_concentric(p, r, 1.0 - r)
+}
+
+/// The concentric inverse of `p`, of radius `r`, given `1 − r` (which a
+/// caller may know better than `1 − r` rounds it: the cosine hemisphere
+/// knows it from `z`). A radius coordinate `−r` maps to `(1 − r) / 2`.
+#[inline]
+fn invert_concentric(p: Vec2, r: f32, one_minus_r: f32) -> Vec2 {
     let mut theta = libm::atan2f(p.y, p.x);
     // Put theta in [-π/4, 7π/4) so each wedge is one interval.
     if theta < -FRAC_PI_4 {
@@ -293,10 +317,20 @@ pub fn invert_concentric_disk(p: Vec2) -> Vec2 {
         // Bottom wedge: radius −b, theta = 3π/2 − π/4 · a/b.
         (-(theta - 3.0 * FRAC_PI_2) * -r / FRAC_PI_4, -r)
     };
-    Vec2::new(
-        ((a + 1.0) * 0.5).clamp(0.0, ONE_MINUS_EPSILON),
-        ((b + 1.0) * 0.5).clamp(0.0, ONE_MINUS_EPSILON),
-    )
+    // The radius coordinate ±r maps to (1 − r) / 2 or 1 − (1 − r) / 2,
+    // from the caller's 1 − r: near the rim that is all the information
+    // (u is as fine as f32 allows near 0, and a grid of 2⁻²⁴ near 1).
+    let to_unit = |c: f32| {
+        let u = if c == -r {
+            one_minus_r * 0.5
+        } else if c == r {
+            1.0 - one_minus_r * 0.5
+        } else {
+            (c + 1.0) * 0.5
+        };
+        u.clamp(0.0, ONE_MINUS_EPSILON)
+    };
+    Vec2::new(to_unit(a), to_unit(b))
 }
 
 // ------------------------------------------------------------ polar disk

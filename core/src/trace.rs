@@ -20,6 +20,18 @@
 //! then, for packet closest hits, the [`HitPacket8`] to update, then, for
 //! the `_with` queries, the caller's [`BvhStack`].
 //!
+//! # One contract for every query: unit directions
+//!
+//! Every query, scalar, SIMD or through a [`Bvh`], takes a [`Ray`] whose
+//! `dir` is unit length to a few ulps (as `Vec3::normalize` gives): the
+//! kernel's formula assumes `d·d = 1` (see below), and the BVH's boxes
+//! are made conservative for hit points `o + t d` of such rays. With it,
+//! all paths return the same bits (the brute-force answer). With any
+//! other direction the roots are not the ray's intersections, and the
+//! answer is unspecified: each path returns a hit or a miss without
+//! panicking, but they may disagree (e.g. `Bvh::any_hit` and `any_hit`
+//! on a ray of length 2). Normalise first; `t` is then a distance.
+//!
 //! # The rest of the module
 //!
 //! - Data: [`Ray`], [`Sphere`] (with [`Sphere::spawn_origin`] for rays
@@ -104,7 +116,8 @@ pub use packet::{
 };
 
 /// A ray `o + t d` restricted to `t ∈ (t_min, t_max)`, both ends open.
-/// `dir` should be unit length so that `t` is a distance.
+/// Every query needs `dir` unit length (the module's contract, "One
+/// contract for every query"); `t` is then a distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     /// Origin.

@@ -245,7 +245,7 @@ fn mapping_lock() {
     let lock: [(&str, u64); 7] = [
         ("uniform_sphere", 0xd074475691ec7496),
         ("uniform_hemisphere", 0x100d822a729b54f8),
-        ("cosine_hemisphere", 0x0c3d9d318ae5e756),
+        ("cosine_hemisphere", 0x4d24764520a9d6fe),
         ("concentric_disk", 0xa336b2ca1704290a),
         ("polar_disk", 0xae81f3436e32bd83),
         ("uniform_cone", 0x7da39f65cf5ea3e7),

@@ -173,7 +173,10 @@ fn a_missing_or_doubled_part_is_refused() {
     let names: Vec<PathBuf> = ["l", "r1", "r2"].map(PathBuf::from).to_vec();
     assert!(merge(&parts, &names).is_ok());
     let e = merge(&parts[..2], &names[..2]).unwrap_err().to_string();
-    assert!(e.contains("gap: pixel (9, 0) has 2 of its 6"), "{e}");
+    assert!(
+        e.contains("gap in the window") && e.contains("pixel (9, 0) has 2 of those 6"),
+        "{e}"
+    );
     let doubled = [
         parts[0].clone(),
         parts[1].clone(),

@@ -511,3 +511,28 @@ fn at_most_eight_outliers() {
     let rays = rays(&spheres, 20_000, &mut rng);
     assert_matches_brute_force("giants", &spheres, &bvh, &rays, rays.len());
 }
+
+/// The unit-direction contract's tolerance: directions off unit length by
+/// up to 8 ulps (`Vec3::normalize` is within about 2) still get the
+/// brute-force bits from the BVH, on every scene.
+#[test]
+fn nearly_unit_directions_match_brute_force() {
+    let mut rng = Pcg32::new(21, 21);
+    for (name, spheres) in scenes().into_iter().filter(|(_, s)| s.len() <= 1000) {
+        let mut store = BvhBuffers::new(spheres.len());
+        let bvh = store.build(&spheres);
+        let rays: Vec<Ray> = rays(&spheres, 40_000, &mut rng)
+            .into_iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let ulps = (k % 17) as f32 - 8.0;
+                let scale = 1.0 + ulps * f32::EPSILON;
+                Ray {
+                    dir: r.dir * scale,
+                    ..r
+                }
+            })
+            .collect();
+        assert_matches_brute_force(&name, &spheres, &bvh, &rays, 0);
+    }
+}

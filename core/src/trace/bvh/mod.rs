@@ -199,7 +199,10 @@ impl core::error::Error for BvhError {}
 /// - Zero direction components are replaced by `±10⁻³⁰`, so a slab test
 ///   never computes `0 × ∞`.
 ///
-/// This holds for unit directions, as the kernels require. Spheres whose
+/// This holds for unit directions, which every query of
+/// [`trace`](crate::trace) requires (its "One contract for every query":
+/// with another direction the kernels' roots are not intersections, and
+/// the BVH and brute-force answers may differ). Spheres whose
 /// centre or radius is infinite, or whose coordinates reach
 /// [`BVH_MAX_COORDINATE`] (where the kernel's squares overflow), are
 /// refused at build time: use the brute-force path for them.
