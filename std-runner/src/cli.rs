@@ -97,7 +97,8 @@ fn pixel_bounds(s: &str) -> Result<[u32; 4], String> {
 /// `strata converge` flags.
 #[derive(Debug, Args)]
 pub struct ConvergeArgs {
-    /// A built-in scene or a TOML scene file.
+    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
+    /// TOML scene file.
     #[arg(long, default_value = "week09")]
     pub scene: String,
     /// Image width in pixels, height by the scene's aspect [default: the
@@ -159,7 +160,8 @@ pub const DEFAULT_THRESHOLD_TEXT: &str = "0.0004";
 /// `strata adaptive` flags.
 #[derive(Debug, Args)]
 pub struct AdaptiveArgs {
-    /// A built-in scene or a TOML scene file.
+    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
+    /// TOML scene file.
     #[arg(long, default_value = "caustics")]
     pub scene: String,
     /// Image width in pixels, height by the scene's aspect [default: the
@@ -204,7 +206,8 @@ pub struct AdaptiveArgs {
 /// `strata filters` flags.
 #[derive(Debug, Args)]
 pub struct FiltersArgs {
-    /// A built-in scene or a TOML scene file.
+    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
+    /// TOML scene file.
     #[arg(long, default_value = "week09")]
     pub scene: String,
     /// Image width in pixels, height by the scene's aspect.
@@ -249,7 +252,8 @@ pub struct FiltersArgs {
 /// `strata aliasing` flags.
 #[derive(Debug, Args)]
 pub struct AliasingArgs {
-    /// A built-in scene or a TOML scene file.
+    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
+    /// TOML scene file.
     #[arg(long, default_value = "horizon")]
     pub scene: String,
     /// Width of each panel in pixels, height by the scene's aspect

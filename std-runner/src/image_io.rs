@@ -32,8 +32,8 @@ pub struct Image {
 pub enum Transfer {
     /// The sRGB curve, rounded (the default; a PNG `sRGB` chunk says so).
     Srgb,
-    /// The course's curve: `⌊255 · min(√v, 0.999)⌋` (COURSE.md D15), with
-    /// a `gAMA` chunk of 1/2.
+    /// The course's curve: `⌊255 · min(√v, 0.999)⌋` (its gamma-2
+    /// encoding), with a `gAMA` chunk of 1/2.
     #[value(name = "2")]
     Gamma2,
 }
@@ -105,8 +105,19 @@ pub fn check_writable_dir(path: &Path) -> Result<()> {
         bail!("output `{}` is a directory", path.display());
     }
     let probe = temp_path(path);
-    std::fs::File::create(&probe)
-        .with_context(|| format!("cannot write output `{}`", path.display()))?;
+    // The reason in the one line main prints (`{e:#}` shows the chain,
+    // but callers that wrap this error may not).
+    std::fs::File::create(&probe).map_err(|e| {
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+        match dir {
+            Some(d) if !d.is_dir() => anyhow::anyhow!(
+                "cannot write output `{}`: its directory `{}` does not exist",
+                path.display(),
+                d.display()
+            ),
+            _ => anyhow::anyhow!("cannot write output `{}`: {e}", path.display()),
+        }
+    })?;
     std::fs::remove_file(&probe).ok();
     Ok(())
 }

@@ -464,6 +464,86 @@ fn bad_scene_files_name_file_line_and_field() {
     );
 }
 
+/// Each message names the key at fault, on its line, in one line.
+#[test]
+fn scene_file_messages_blame_the_right_key() {
+    let dir = scene_dir();
+    let d = dir.path();
+    let one_line = |e: &str| assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    // A camera that is valid key by key but not representable: the key
+    // that makes it so, not "look_from and look_at coincide".
+    let e = broken(d, "vfov = 50.0", "vfov = 1e-40");
+    assert!(e.contains("camera.vfov") && e.contains("too narrow"), "{e}");
+    let e = broken(
+        d,
+        "look_from = [0.0, 1.0, 3.0]",
+        "look_from = [0.0, 1.0, 1e30]",
+    );
+    assert!(e.contains("camera:") && e.contains("too far"), "{e}");
+    let e = broken(d, "look_at = [0.0, 0.0, 0.0]", "look_at = [0.0, 1.0, 3.0]");
+    assert!(e.contains("coincide"), "{e}");
+    // A missing top-level table is the file's, not its first table's.
+    let no_materials: String = SCENE.split("\n[materials.").next().unwrap().to_string()
+        + "\n[[spheres]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"x\"\n";
+    std::fs::write(d.join("bad.toml"), no_materials).unwrap();
+    let e = refused(d, &["render", "--scene", "bad.toml", "-o", "bad.png"]);
+    assert!(
+        e.contains(":1: (top level): missing field `materials`"),
+        "{e}"
+    );
+    // A type error names the key.
+    let e = broken(d, "vfov = 50.0", "vfov = \"wide\"");
+    assert!(
+        e.contains(&format!(":{}: camera.vfov: invalid type", line_of("vfov"))),
+        "{e}"
+    );
+    // A material's bad key is placed on its own line.
+    let e = broken(d, "roughness = 0.3", "roughness = 3.0");
+    assert!(
+        e.contains(&format!(
+            ":{}: materials.metal.roughness",
+            line_of("roughness = 0.3")
+        )),
+        "{e}"
+    );
+    // A string over two lines stays a one-line message.
+    let e = broken(d, "kind = \"mirror\"", "kind = \"\"\"mir\nror\"\"\"");
+    assert!(e.contains("mir\\nror"), "{e}");
+    one_line(&e);
+    // Not UTF-8: the line of the first bad byte.
+    let mut bytes = SCENE.as_bytes().to_vec();
+    let at = SCENE.find("vfov").unwrap();
+    bytes.splice(at..at, [b'#', 0xff, b'\n']);
+    std::fs::write(d.join("bad.toml"), bytes).unwrap();
+    let e = refused(d, &["render", "--scene", "bad.toml", "-o", "bad.png"]);
+    assert!(
+        e.contains(&format!("bad.toml:{}: (file): not UTF-8", line_of("vfov"))),
+        "{e}"
+    );
+    one_line(&e);
+    // A missing output directory says so.
+    let e = refused(d, &["render", "--width", "8", "-o", "no/such/dir/x.png"]);
+    assert!(e.contains("directory `no/such/dir` does not exist"), "{e}");
+}
+
+/// Help texts say only what a user can act on: every built-in scene, no
+/// source-code links, no files outside the repository.
+#[test]
+fn help_texts_are_self_contained() {
+    let dir = tempfile::tempdir().unwrap();
+    for cmd in ["render", "converge", "adaptive", "filters", "aliasing"] {
+        let help = ok(dir.path(), &[cmd, "--help"]);
+        assert!(help.contains("--scene"), "{cmd}");
+        assert!(
+            help.contains("horizon") && help.contains("caustics"),
+            "{cmd}"
+        );
+        for bad in ["[`", "COURSE.md", "DESIGN.md"] {
+            assert!(!help.contains(bad), "{cmd} --help holds `{bad}`");
+        }
+    }
+}
+
 #[test]
 fn bad_flags_are_refused_before_work() {
     let dir = tempfile::tempdir().unwrap();

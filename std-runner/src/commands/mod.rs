@@ -104,7 +104,10 @@ pub(crate) fn height_for(scene: &SceneData, width: u32, aspect: Option<f32>) -> 
                 "--aspect {a} with width {width} gives a height of {h} pixels (1..={MAX_WIDTH})"
             ),
             None => {
-                bail!("width {width} at aspect {a} gives a height of {h} pixels (1..={MAX_WIDTH})")
+                bail!(
+                    "width {width} at the scene's aspect {a} (its [render] aspect) gives a height \
+                     of {h} pixels (1..={MAX_WIDTH}): give --height or --aspect"
+                )
             }
         }
     }

@@ -8,7 +8,8 @@ use anyhow::{Context, Result};
 
 use crate::film::{Film, is_film_path};
 use crate::image_io::{
-    Transfer, check_output, check_writable_dir, write_atomic, write_file, write_png_rgb8,
+    ImageFormat, Transfer, check_output, check_writable_dir, write_atomic, write_file,
+    write_png_rgb8,
 };
 use crate::plot::spp_map_with_legend;
 
@@ -96,7 +97,13 @@ pub(crate) fn check_output_or_film(path: &Path) -> Result<()> {
     if is_film_path(path) {
         check_writable_dir(path)
     } else {
-        check_output(path).map_err(|e| anyhow::anyhow!("{e}, or .film for a partial film"))
+        match ImageFormat::of(path) {
+            None => anyhow::bail!(
+                "output `{}` must end in .png or .exr, or .film for a partial film",
+                path.display()
+            ),
+            Some(_) => check_output(path),
+        }
     }
 }
 

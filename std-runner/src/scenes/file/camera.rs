@@ -69,8 +69,8 @@ pub(super) fn camera(
     match Camera::new(&camera, 1, 1) {
         Ok(_) => Ok(camera),
         Err(e) => {
-            let (span, field, message) = blame(section, e);
-            Err(src.error(span, field, message.into()))
+            let (span, field, message) = blame(section, e, &camera);
+            Err(src.error(span, field, message))
         }
     }
 }
@@ -79,29 +79,79 @@ pub(super) fn camera(
 fn blame(
     section: &Spanned<FileCamera>,
     e: CameraError,
-) -> (Range<usize>, &'static str, &'static str) {
+    desc: &CameraDesc,
+) -> (Range<usize>, &'static str, String) {
     let cam = section.get_ref();
     match e {
         CameraError::FieldOfView => (
             cam.vfov.span(),
             "camera.vfov",
-            "must be in (0, 180) degrees",
+            "must be in (0, 180) degrees".into(),
         ),
         CameraError::Lens => match (&cam.focus_dist, &cam.defocus_angle) {
-            (Some(f), _) if !(*f.get_ref() > 0.0 && f.get_ref().is_finite()) => {
-                (f.span(), "camera.focus_dist", "must be positive and finite")
-            }
-            (_, Some(d)) => (
+            (Some(f), _) if !(*f.get_ref() > 0.0 && f.get_ref().is_finite()) => (
+                f.span(),
+                "camera.focus_dist",
+                "must be positive and finite".into(),
+            ),
+            (_, Some(d)) if !(*d.get_ref() >= 0.0 && *d.get_ref() < 180.0) => (
                 d.span(),
                 "camera.defocus_angle",
-                "must be in [0, 180) degrees",
+                "must be in [0, 180) degrees".into(),
             ),
-            _ => (section.span(), "camera", "look_from and look_at coincide"),
+            _ if desc.focus_dist == 0.0 => (
+                section.span(),
+                "camera",
+                "look_from and look_at coincide".into(),
+            ),
+            // Valid values whose product is not representable: a pixel's
+            // step on the focus plane underflows (a tiny field of view) or
+            // the plane's corner overflows (a huge distance).
+            _ if Camera::new(
+                &CameraDesc {
+                    vfov_deg: 60.0,
+                    ..*desc
+                },
+                1,
+                1,
+            )
+            .is_ok() =>
+            {
+                (
+                    cam.vfov.span(),
+                    "camera.vfov",
+                    format!(
+                        "{:e}° is too narrow for f32: a pixel on the focus plane, {:e} away, \
+                         would be below its resolution",
+                        desc.vfov_deg, desc.focus_dist
+                    ),
+                )
+            }
+            _ => {
+                let (span, field) = match &cam.focus_dist {
+                    Some(f) => (f.span(), "camera.focus_dist"),
+                    None => (section.span(), "camera"),
+                };
+                (
+                    span,
+                    field,
+                    format!(
+                        "the focus plane is {:e} away (from look_from at {:e} from the origin): \
+                         too far for f32 to place a pixel on it; move the scene nearer the origin",
+                        // In f64: the f32 distance may overflow.
+                        match cam.focus_dist {
+                            Some(_) => desc.focus_dist as f64,
+                            None => (desc.look_at - desc.look_from).as_dvec3().length(),
+                        },
+                        desc.look_from.as_dvec3().length()
+                    ),
+                )
+            }
         },
         CameraError::DegenerateView | CameraError::EmptyImage => (
             section.span(),
             "camera",
-            "look_from equals look_at, or up is parallel to the view",
+            "look_from equals look_at, or up is parallel to the view".into(),
         ),
     }
 }

@@ -119,8 +119,8 @@ macro_rules! lobe {
 /// A material and, if its albedo is an image, the image's index.
 type Built = (Material<'static>, Option<usize>);
 
-/// The table of one material: every error about it is placed at the
-/// table and names it, or the key in it.
+/// The table of one material: every error about it names it, or the key
+/// in it and that key's line.
 struct Table<'a> {
     src: &'a Source<'a>,
     span: Range<usize>,
@@ -128,6 +128,32 @@ struct Table<'a> {
 }
 
 impl Table<'_> {
+    /// Where `key = ` is written in the table (its keys are not spanned:
+    /// serde's internally tagged enums cannot carry spans), else the
+    /// table: an error about a key then points at its line.
+    fn key_span(&self, key: &str) -> Range<usize> {
+        let text = self.src.text;
+        // The table's own lines: from its header (or inline table) to the
+        // next header.
+        let start = self.span.start.min(text.len());
+        let first = text[start..].find('\n').map_or(text.len(), |i| start + i);
+        let end = text[first..]
+            .find("\n[")
+            .map_or(text.len(), |i| first + i)
+            .max(self.span.end.min(text.len()));
+        let body = &text[start..end];
+        let is_key_char = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+        body.match_indices(key)
+            .find(|&(at, _)| {
+                let before = body[..at].chars().next_back();
+                let after = body[at + key.len()..].trim_start_matches([' ', '\t']);
+                before.is_none_or(|c| !is_key_char(c) && c != '"') && after.starts_with('=')
+            })
+            .map_or(self.span.clone(), |(at, _)| {
+                start + at..start + at + key.len()
+            })
+    }
+
     /// An error about the material as a whole.
     fn error(&self, message: String) -> SceneFileError {
         self.src.error(self.span.clone(), &self.field, message)
@@ -139,7 +165,7 @@ impl Table<'_> {
             Ok(())
         } else {
             Err(self.src.error(
-                self.span.clone(),
+                self.key_span(key),
                 &format!("{}.{key}", self.field),
                 format!("{rule}, got {value}"),
             ))
@@ -164,7 +190,7 @@ impl Table<'_> {
     /// The colour at `key`, each component in `[0, max]`.
     fn colour(&self, c: [f32; 3], max: f32, key: &str) -> Result<Vec3, SceneFileError> {
         self.src
-            .colour(c, max, self.span.clone(), &format!("{}.{key}", self.field))
+            .colour(c, max, self.key_span(key), &format!("{}.{key}", self.field))
     }
 
     /// The albedo of a textured kind: a colour or a texture's name, not
@@ -303,7 +329,8 @@ mod tests {
     }
 
     /// The lobe kinds share one set of keys, yet their errors name the
-    /// material's table, line and keys as every other kind's do.
+    /// material's table and keys as every other kind's do, at the bad
+    /// key's line (the table's for serde's own errors).
     #[test]
     fn lobe_errors_name_the_table_and_the_key() {
         let lobe = |kind: &str, keys: &str| {
@@ -322,14 +349,14 @@ mod tests {
         );
         assert_eq!(
             lobe("blinn_normalized", "kd = 0.5\nks = 0.6\nexponent = 2.0"),
-            "s.toml:6: materials.m.ks: kd + ks must be at most 1 for a normalised lobe, got 0.6"
+            "s.toml:10: materials.m.ks: kd + ks must be at most 1 for a normalised lobe, got 0.6"
         );
         assert_eq!(
             lobe(
                 "cook_torrance",
                 "kd = 0.5\nks = 0.5\nalpha = 0.0\nior = 1.5"
             ),
-            "s.toml:6: materials.m.alpha: must be in (0, 1], got 0"
+            "s.toml:11: materials.m.alpha: must be in (0, 1], got 0"
         );
     }
 }

@@ -96,11 +96,21 @@ struct File {
 
 /// Reads and checks a scene file.
 pub fn load(path: &Path) -> Result<SceneData, SceneFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneFileError {
+    let bytes = std::fs::read(path).map_err(|e| SceneFileError {
         file: path.to_path_buf(),
         line: 0,
         field: "(file)".into(),
         message: format!("cannot read: {e}"),
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        // The line of the first byte that is not UTF-8.
+        let at = e.utf8_error().valid_up_to();
+        SceneFileError {
+            file: path.to_path_buf(),
+            line: e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1,
+            field: "(file)".into(),
+            message: format!("not UTF-8 text (byte {at} is not): a scene file is TOML, in UTF-8"),
+        }
     })?;
     parse(path, &text)
 }
@@ -150,7 +160,8 @@ impl Source<'_> {
                 .count()
                 + 1,
             field: field.to_string(),
-            message,
+            // One line: a value quoted from the file may hold newlines.
+            message: message.replace('\r', "").replace('\n', "\\n"),
         }
     }
 
@@ -167,7 +178,14 @@ impl Source<'_> {
                     "must be \"sky\" or an RGB radiance [r, g, b]".into(),
                 );
             }
-            let field = enclosing_table(self.text, span.start);
+            // A span over the whole file is about the file itself (a
+            // missing top-level table), not its first table.
+            let whole =
+                span.start == 0 && (span.end == 0 || span.end >= self.text.trim_end().len());
+            let field = match whole {
+                true => "(top level)".to_string(),
+                false => enclosing_key(self.text, span.start),
+            };
             self.error(span, &field, message.to_string())
         })
     }
@@ -214,6 +232,29 @@ impl Source<'_> {
 /// The TOML table that holds byte `offset`: `materials.glass` for a
 /// `[materials.glass]` header, `spheres[3]` for the fourth `[[spheres]]`,
 /// `(top level)` before any header.
+/// The table holding `offset` and, when `offset` is in a `key = value`
+/// line's value, the key: `camera.vfov`, `spheres[2].radius`.
+fn enclosing_key(text: &str, offset: usize) -> String {
+    let table = enclosing_table(text, offset);
+    let start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let before = &text[start..offset.min(text.len())];
+    match before.split_once('=') {
+        Some((key, _)) if is_bare_key(key.trim()) => match table.as_str() {
+            "(top level)" => key.trim().to_string(),
+            t => format!("{t}.{}", key.trim()),
+        },
+        _ => table,
+    }
+}
+
+fn is_bare_key(k: &str) -> bool {
+    !k.is_empty()
+        && k.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 fn enclosing_table(text: &str, offset: usize) -> String {
     let mut current = "(top level)".to_string();
     let mut arrays: BTreeMap<String, usize> = BTreeMap::new();
