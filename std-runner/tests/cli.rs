@@ -521,6 +521,12 @@ fn scene_file_messages_blame_the_right_key() {
         "{e}"
     );
     one_line(&e);
+    // The file's aspect is the file's, not a --aspect never given.
+    let e = broken(d, "width = 48", "width = 48\naspect = 1e-6");
+    assert!(
+        e.contains("the scene's aspect") && !e.contains("--aspect 0"),
+        "{e}"
+    );
     // A missing output directory says so.
     let e = refused(d, &["render", "--width", "8", "-o", "no/such/dir/x.png"]);
     assert!(e.contains("directory `no/such/dir` does not exist"), "{e}");
