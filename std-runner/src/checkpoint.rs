@@ -31,6 +31,7 @@ use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
@@ -55,9 +56,16 @@ pub const SYNC_SECONDS: u64 = 30;
 /// The environment variable of the crash tests (a test hook, not a
 /// setting): `after:N` aborts the process once the Nth tile of this run is
 /// appended, `writing:N` halfway through appending it (as a kill would);
-/// `delay:MS` waits MS milliseconds before each append, so a test's
-/// signal finds the render running.
+/// `hold:N` holds every append after the Nth until [`STOP`] is set, so a
+/// test's signal finds the render running whatever the machine's speed.
 pub const TEST_HOOK_VAR: &str = "STRATA_TEST_HOOK";
+
+/// Set by the first SIGINT or SIGTERM of a checkpointed render (the
+/// handler is `strata render`'s): no new tile starts.
+pub static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Longest checkpoint header read (the flags and the render's key).
+const MAX_HEADER_BYTES: usize = 64 * 1024;
 
 /// Bytes of a record around its pixels: tag, index, count, three counts,
 /// checksum.
@@ -95,6 +103,9 @@ pub struct Saved {
     pub identity: Vec<(String, String)>,
     /// The tiles recorded whole.
     pub tiles: Vec<TileFilm>,
+    /// Bytes after the last whole record: a record cut off by a kill (or
+    /// damaged), dropped; its tile and any after it are rendered again.
+    pub dropped_bytes: u64,
     /// Bytes of the header and the whole records: where appending goes on.
     end: u64,
 }
@@ -104,6 +115,8 @@ pub struct Checkpoint {
     path: PathBuf,
     inner: Mutex<Appender>,
     hook: Option<TestHook>,
+    /// Made by this process (not a resumed one).
+    new: bool,
 }
 
 struct Appender {
@@ -111,13 +124,18 @@ struct Appender {
     synced: Instant,
     /// Tiles appended by this process.
     appended: u64,
+    /// The end of the last whole record. After a failed write the file is
+    /// cut back to it and takes no more records, so no whole record ever
+    /// follows a torn one.
+    end: u64,
+    failed: bool,
 }
 
 #[derive(Clone, Copy)]
 enum TestHook {
     After(u64),
     Writing(u64),
-    Delay(u64),
+    Hold(u64),
 }
 
 impl Checkpoint {
@@ -132,21 +150,29 @@ impl Checkpoint {
         head.push('\n');
         write_atomic(path, |tmp| write_file(tmp, head.as_bytes()))
             .with_context(|| format!("cannot write the checkpoint `{}`", path.display()))?;
-        Checkpoint::open_at(path, head.len() as u64)
+        Checkpoint::open_at(path, head.len() as u64, true)
     }
 
     /// Opens a checkpoint read by [`read`] for more tiles, cutting off a
     /// torn last record.
     pub fn reopen(path: &Path, saved: &Saved) -> Result<Checkpoint> {
-        Checkpoint::open_at(path, saved.end)
+        Checkpoint::open_at(path, saved.end, false)
     }
 
-    fn open_at(path: &Path, end: u64) -> Result<Checkpoint> {
+    fn open_at(path: &Path, end: u64, new: bool) -> Result<Checkpoint> {
         let cannot = || format!("cannot open the checkpoint `{}`", path.display());
         let mut file = OpenOptions::new()
             .write(true)
             .open(path)
             .with_context(cannot)?;
+        // One writer: a second process resuming the same file (a requeued
+        // job whose first run still lives) would interleave records.
+        if file.try_lock().is_err() {
+            bail!(
+                "the checkpoint `{}` is in use by another strata process",
+                path.display()
+            );
+        }
         file.set_len(end).with_context(cannot)?;
         file.seek(SeekFrom::Start(end)).with_context(cannot)?;
         Ok(Checkpoint {
@@ -155,9 +181,18 @@ impl Checkpoint {
                 file,
                 synced: Instant::now(),
                 appended: 0,
+                end,
+                failed: false,
             }),
             hook: test_hook()?,
+            new,
         })
+    }
+
+    /// Whether this process made the checkpoint (else it resumes one).
+    #[must_use]
+    pub fn is_new(&self) -> bool {
+        self.new
     }
 
     /// The file.
@@ -169,10 +204,19 @@ impl Checkpoint {
     /// Appends a finished tile (one write of the whole record).
     pub fn append(&self, tile: &TileFilm) -> Result<()> {
         let record = encode_record(tile);
-        if let Some(TestHook::Delay(ms)) = self.hook {
-            std::thread::sleep(Duration::from_millis(ms));
-        }
         let mut a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(TestHook::Hold(n)) = self.hook
+            && a.appended >= n
+        {
+            drop(a);
+            while !STOP.load(Ordering::SeqCst) {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        }
+        if a.failed {
+            bail!("the checkpoint `{}` failed earlier", self.path.display());
+        }
         a.appended += 1;
         if let Some(TestHook::Writing(n)) = self.hook
             && n == a.appended
@@ -180,9 +224,17 @@ impl Checkpoint {
             a.file.write_all(&record[..record.len() / 2]).ok();
             std::process::abort();
         }
-        a.file.write_all(&record).with_context(|| {
-            format!("cannot append to the checkpoint `{}`", self.path.display())
-        })?;
+        if let Err(e) = a.file.write_all(&record) {
+            // Cut the torn bytes off, and take no more records.
+            let end = a.end;
+            a.failed = true;
+            a.file.set_len(end).ok();
+            a.file.seek(SeekFrom::Start(end)).ok();
+            return Err(e).with_context(|| {
+                format!("cannot append to the checkpoint `{}`", self.path.display())
+            });
+        }
+        a.end += record.len() as u64;
         if let Some(TestHook::After(n)) = self.hook
             && n == a.appended
         {
@@ -211,12 +263,12 @@ fn test_hook() -> Result<Option<TestHook>> {
     let parsed = match v.split_once(':') {
         Some(("after", n)) => n.parse().ok().map(TestHook::After),
         Some(("writing", n)) => n.parse().ok().map(TestHook::Writing),
-        Some(("delay", ms)) => ms.parse().ok().map(TestHook::Delay),
+        Some(("hold", n)) => n.parse().ok().map(TestHook::Hold),
         _ => None,
     };
     match parsed {
         Some(a) => Ok(Some(a)),
-        None => bail!("{TEST_HOOK_VAR}=`{v}`: use after:N, writing:N or delay:MS"),
+        None => bail!("{TEST_HOOK_VAR}=`{v}`: use after:N, writing:N or hold:N"),
     }
 }
 
@@ -246,20 +298,21 @@ pub fn read(path: &Path) -> Result<Saved> {
 }
 
 fn parse(bytes: &[u8]) -> Result<Saved> {
-    let Some(end) = bytes.windows(2).position(|w| w == b"\n\n") else {
-        bail!("not a Strata checkpoint, or cut off in its header");
-    };
-    let head = std::str::from_utf8(&bytes[..end]).context("header is not UTF-8")?;
-    let mut lines = head.lines();
-    if lines.next() != Some(MAGIC) {
+    if !bytes.starts_with(format!("{MAGIC}\n").as_bytes()) {
         bail!("not a Strata checkpoint (no `{MAGIC}` line)");
     }
+    let head_bytes = &bytes[..bytes.len().min(MAX_HEADER_BYTES)];
+    let Some(end) = head_bytes.windows(2).position(|w| w == b"\n\n") else {
+        bail!("cut off in its header, or a header over 64 KB: not a usable checkpoint");
+    };
+    let head = std::str::from_utf8(&bytes[..end]).context("header is not UTF-8")?;
     let mut args = None;
     let mut identity = Vec::new();
-    for line in lines {
-        let (k, v) = line
-            .split_once('=')
-            .with_context(|| format!("header line `{line}` is not key=value"))?;
+    for line in head.lines().skip(1) {
+        let (k, v) = line.split_once('=').with_context(|| {
+            let shown: String = line.chars().take(80).collect();
+            format!("header line `{shown}` is not key=value")
+        })?;
         match k {
             "args" => {
                 args = Some(
@@ -281,6 +334,7 @@ fn parse(bytes: &[u8]) -> Result<Saved> {
         args,
         identity,
         tiles,
+        dropped_bytes: (bytes.len() - at) as u64,
         end: at as u64,
     })
 }
@@ -388,6 +442,21 @@ mod tests {
             bad[at] ^= 0x10;
             assert!(parse_record(&bad).is_none(), "byte {at}");
         }
+    }
+
+    #[test]
+    fn one_process_at_a_time_appends() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("c.checkpoint");
+        std::fs::write(&path, b"header\n\n").unwrap();
+        let first = Checkpoint::open_at(&path, 8, false).unwrap();
+        let e = Checkpoint::open_at(&path, 8, false).err().unwrap();
+        assert!(
+            e.to_string().contains("in use by another strata process"),
+            "{e}"
+        );
+        drop(first);
+        assert!(Checkpoint::open_at(&path, 8, false).is_ok());
     }
 
     #[test]

@@ -446,11 +446,34 @@ fn bad_scene_files_name_file_line_and_field() {
             && e.contains("below what f32 resolves"),
         "{e}"
     );
-    let e = broken(d, "emit = [10.0, 10.0, 10.0]", "emit = [10.0, 1e30, 10.0]");
-    assert!(
-        e.contains("materials.lamp.emit") && e.contains("clamps every sample"),
-        "{e}"
+    // A light past the cap renders (its light on surfaces is right) but
+    // says that where it is seen directly its pixels clamp.
+    std::fs::write(
+        d.join("bright.toml"),
+        SCENE.replacen("emit = [10.0, 10.0, 10.0]", "emit = [10.0, 1e5, 10.0]", 1),
+    )
+    .unwrap();
+    let out = strata(
+        d,
+        &[
+            "render",
+            "--scene",
+            "bright.toml",
+            "--width",
+            "8",
+            "-o",
+            "bright.png",
+        ],
     );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: a light emits 1e5") && err.contains("clamped"),
+        "{err}"
+    );
+    std::fs::remove_file(d.join("bright.png")).unwrap();
+    let e = broken(d, "emit = [10.0, 10.0, 10.0]", "emit = [10.0, 1e39, 10.0]");
+    assert!(e.contains("materials.lamp.emit"), "{e}");
     let e = broken(
         d,
         "background = [0.1, 0.1, 0.12]",

@@ -3,8 +3,8 @@
 //! of the binary, `STRATA_TEST_HOOK`), a real SIGINT and a real SIGKILL;
 //! each leaves only its checkpoint, and the resumed render renders exactly
 //! the tiles the checkpoint lacks. No verdict depends on time: a signal is
-//! sent once the checkpoint holds a tile, and the render is slowed (not
-//! changed) so that it is still running then.
+//! sent once the checkpoint holds a tile, and the render's further tiles
+//! are held (not changed) until it comes.
 
 use std::os::unix::process::ExitStatusExt;
 use std::path::Path;
@@ -190,19 +190,19 @@ fn aborted_splatted_adaptive_and_partial_renders_resume_exactly() {
     );
 }
 
-/// Starts a render slowed by `delay:MS`, waits until its checkpoint holds
-/// a tile, sends `signal`, and returns its output.
+/// Starts a render whose appends after the first are held until a stop
+/// (`hold:1`), waits until its checkpoint holds a tile, sends `signal`,
+/// and returns its output: the render is still running then, however
+/// fast the machine.
 fn signalled(dir: &Path, render: &[&str], checkpoint: &Path, signal: &str) -> Output {
     let child = Command::new(env!("CARGO_BIN_EXE_strata"))
         .args(render)
         .current_dir(dir)
-        .env(HOOK, "delay:150")
+        .env(HOOK, "hold:1")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Polled, not timed: the render takes 24 tiles × 150 ms on 2 threads,
-    // so it is still running when the first tile lands.
     let mut polls = 0;
     while !checkpoint.exists() || recorded(checkpoint) == 0 {
         polls += 1;
@@ -323,4 +323,46 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     );
     assert_eq!(names(d), ["s.png", "s.toml"]);
     assert!(names(elsewhere.path()).is_empty());
+}
+
+#[test]
+fn a_render_without_output_resumes_to_the_same_default_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("scenes")).unwrap();
+    let toml = "[camera]\nlook_from = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nvfov = 60.0\n\n\
+                [materials.m]\nkind = \"lambertian\"\nalbedo = [0.5, 0.5, 0.5]\n\n\
+                [[spheres]]\ncenter = [0.0, 0.0, -3.0]\nradius = 1.0\nmaterial = \"m\"\n";
+    std::fs::write(d.join("scenes/s.toml"), toml).unwrap();
+    let args = [
+        "render",
+        "--scene",
+        "scenes/s.toml",
+        "--width",
+        "32",
+        "--tile",
+        "8",
+    ];
+    let out = strata(d, &args, Some("after:2"));
+    assert_eq!(out.status.signal(), Some(6));
+    // The scene file's stem names the output, as in a one-shot render.
+    assert_eq!(names(d), ["s.png.checkpoint", "scenes"]);
+    // A damaged record: it and the records after it are dropped, and
+    // the resumed render says so.
+    let path = d.join("s.png.checkpoint");
+    let mut b = bytes(&path);
+    let at = b.len() - 100;
+    b[at] ^= 1;
+    std::fs::write(&path, b).unwrap();
+    let out = ok(d, &["render", "--resume", "s.png.checkpoint"]);
+    assert!(out.contains("are dropped"), "{out}");
+    assert_eq!(resumed_counts(&out).0, 1, "{out}");
+    assert_eq!(names(d), ["s.png", "scenes"]);
+    let one = ok(d, &{
+        let mut a = args.to_vec();
+        a.extend(["--no-checkpoint", "-o", "one.png"]);
+        a
+    });
+    assert!(one.contains("one.png"));
+    assert!(bytes(&d.join("s.png")) == bytes(&d.join("one.png")));
 }

@@ -8,7 +8,7 @@ use std::time::Duration;
 use anyhow::{Context, Result, bail};
 use strata::render::{Adaptive, Tile, TileStats};
 
-use crate::checkpoint::{self, Checkpoint};
+use crate::checkpoint::{self, Checkpoint, STOP};
 use crate::cli::RenderArgs;
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
@@ -31,6 +31,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     }
     let scene = resolve_scene(&args.scene)?;
     let plan = args.plan(&scene)?;
+    warn_bright_lights(&scene);
     let checkpoint = match &plan.checkpoint {
         None => None,
         Some(path) => {
@@ -41,10 +42,35 @@ pub fn render(args: &RenderArgs) -> Result<()> {
                     path.display()
                 );
             }
-            Some(Checkpoint::create(path, &args.absolute()?, &plan.job)?)
+            Some(Checkpoint::create(
+                path,
+                &args.absolute(&plan.output)?,
+                &plan.job,
+            )?)
         }
     };
     finish(&plan, checkpoint, Vec::new())
+}
+
+/// Says so when a light is brighter than a sample may carry: where the
+/// camera sees it directly its pixels are clamped to that (the film's
+/// cap), while the light it sheds on surfaces is not.
+fn warn_bright_lights(scene: &SceneData) {
+    let cap = strata::render::MAX_SAMPLE_VALUE;
+    let brightest = scene
+        .materials
+        .iter()
+        .filter_map(|m| match m {
+            strata::render::Material::DiffuseLight { emit } => Some(emit.max_element()),
+            _ => None,
+        })
+        .fold(0.0f32, f32::max);
+    if brightest > cap {
+        eprintln!(
+            "warning: a light emits {brightest:e}, above the {cap} a sample may carry: where the \
+             camera sees it directly its pixels are clamped to {cap} (the light it sheds is not)"
+        );
+    }
 }
 
 /// `strata render --resume FILE`: the checkpoint's flags planned again
@@ -59,13 +85,23 @@ fn resume(path: &Path) -> Result<()> {
         .with_context(|| format!("checkpoint `{}`", path.display()))?;
     plan.checkpoint = Some(path.to_path_buf());
     let checkpoint = Checkpoint::reopen(path, &saved)?;
+    if saved.dropped_bytes > 0 {
+        say(&format!(
+            "checkpoint `{}`: {} bytes after its {} whole tiles are dropped (a tile record cut off \
+             by the interrupt, or damaged); their tiles are rendered again",
+            path.display(),
+            saved.dropped_bytes,
+            saved.tiles.len()
+        ));
+    }
     finish(&plan, Some(checkpoint), saved.tiles)
 }
 
-/// Set by SIGINT or SIGTERM while a checkpointed render runs: no new tile
-/// starts. A second signal exits at once (the checkpoint's records are
-/// whole or dropped on resume).
-static STOP: AtomicBool = AtomicBool::new(false);
+/// Set once every tile is done: a signal then lets the output be written
+/// (a moment) rather than leave a temporary file. Before, the first SIGINT
+/// or SIGTERM sets [`STOP`] (no new tile starts) and a second exits at
+/// once (the checkpoint's records are whole or dropped on resume).
+static WRITING: AtomicBool = AtomicBool::new(false);
 
 /// Renders the tiles `done` lacks, appending each to `checkpoint`, then
 /// writes the files and removes the checkpoint.
@@ -79,10 +115,13 @@ fn finish(
         // Only one handler per process; a second render in one process
         // (tests) keeps the first, which sets the same flag.
         let _ = ctrlc::set_handler(|| {
-            if STOP.swap(true, Ordering::SeqCst) {
+            if WRITING.load(Ordering::SeqCst) {
+                eprintln!("\nwriting the output: a moment");
+            } else if STOP.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
+            } else {
+                eprintln!("\nstopping: finishing the tiles in flight (again to quit at once)");
             }
-            eprintln!("\nstopping: finishing the tiles in flight (again to quit at once)");
         });
     }
     let resumed = done.len();
@@ -105,11 +144,12 @@ fn finish(
     };
     let outcome = run_resumable(job, &|n| bar.inc(n), resume);
     bar.finish_and_clear();
-    // Keeps the checkpoint when it holds tiles (and says so), else
-    // removes it: a render refused before its first tile leaves no file.
+    // Keeps the checkpoint when it holds tiles or was given (and says so),
+    // else removes it: a render refused before its first tile leaves no
+    // file.
     let kept = |e: anyhow::Error| -> anyhow::Error {
         match &checkpoint {
-            Some(c) if resumed + appended.load(Ordering::Relaxed) > 0 => {
+            Some(c) if resumed + appended.load(Ordering::Relaxed) > 0 || !c.is_new() => {
                 c.sync().ok();
                 e.context(format!(
                     "the finished tiles are kept in `{0}`: `strata render --resume {0}` goes on",
@@ -124,7 +164,12 @@ fn finish(
         }
     };
     let rendered = match outcome.map_err(kept)? {
-        Outcome::Finished(r) => r,
+        // (Also when a signal came as the last tiles finished: nothing is
+        // left, so the output is written after all.)
+        Outcome::Finished(r) => {
+            WRITING.store(true, Ordering::SeqCst);
+            r
+        }
         Outcome::Stopped { done, total } => {
             let Some(c) = &checkpoint else {
                 unreachable!("only a checkpointed render installs the stop handler")
@@ -168,7 +213,7 @@ fn finish(
     let dropped: u64 = film.window_pixels().iter().map(|p| p.dropped as u64).sum();
     plan.write(&film).map_err(kept)?;
     if let Some(path) = &plan.stats {
-        write_stats(path, plan, wall, stats, dropped, resumed).map_err(kept)?;
+        write_stats(path, plan, wall, (stats, run_stats), dropped, resumed).map_err(kept)?;
     }
     if let Some(c) = &checkpoint {
         std::fs::remove_file(c.path())
@@ -342,9 +387,9 @@ impl RenderArgs {
         Ok(Some(path))
     }
 
-    /// These flags with every path absolute and the output named, so a
-    /// checkpoint resumes the same render from any directory.
-    fn absolute(&self) -> Result<RenderArgs> {
+    /// These flags with every path absolute and the output (the plan's)
+    /// named, so a checkpoint resumes the same render from any directory.
+    fn absolute(&self, output: &Path) -> Result<RenderArgs> {
         let abs = |p: &Path| {
             std::path::absolute(p).with_context(|| format!("cannot resolve `{}`", p.display()))
         };
@@ -356,11 +401,8 @@ impl RenderArgs {
                 .context("the scene file's path is not UTF-8: resume needs it as text")?
                 .to_string();
         }
-        let output = self
-            .output
-            .clone()
-            .unwrap_or_else(|| PathBuf::from(format!("{}.png", self.scene)));
-        out.output = Some(abs(&output)?);
+        // The plan's output (the default is named after the scene's stem).
+        out.output = Some(abs(output)?);
         out.stats = opt(&self.stats)?;
         out.spp_map = opt(&self.spp_map)?;
         out.checkpoint = opt(&self.checkpoint)?;
@@ -445,7 +487,7 @@ fn write_stats(
     path: &Path,
     plan: &RenderPlan<'_>,
     wall: Duration,
-    st: TileStats,
+    (st, run): (TileStats, TileStats),
     dropped: u64,
     resumed: usize,
 ) -> Result<()> {
@@ -463,6 +505,11 @@ fn write_stats(
         "shadow_rays": st.shadow_rays,
         "dropped_samples": dropped,
         "resumed_tiles": resumed,
+        // What this run traced in `wall_seconds` (less than the totals
+        // above after a resume).
+        "run_camera_paths": run.paths,
+        "run_rays": run.rays,
+        "run_shadow_rays": run.shadow_rays,
         "bvh": scene.use_bvh(job.bvh),
         "version": crate::film::version(),
     });

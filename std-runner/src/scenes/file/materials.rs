@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use glam::Vec3;
 use serde::Deserialize;
-use strata::render::{MAX_SAMPLE_VALUE, Material, MaterialError, Texture};
+use strata::render::{Material, MaterialError, Texture};
 use toml::Spanned;
 
 use super::textures::Named;
@@ -145,6 +145,11 @@ impl Table<'_> {
         let is_key_char = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
         body.match_indices(key)
             .find(|&(at, _)| {
+                // Not in a comment.
+                let line = &body[body[..at].rfind('\n').map_or(0, |i| i + 1)..at];
+                if line.contains('#') {
+                    return false;
+                }
                 let before = body[..at].chars().next_back();
                 let after = body[at + key.len()..].trim_start_matches([' ', '\t']);
                 before.is_none_or(|c| !is_key_char(c) && c != '"') && after.starts_with('=')
@@ -244,7 +249,10 @@ impl Table<'_> {
             FileMaterial::BlinnNormalized(l) => self.lobe(l, textures, lobe!(BlinnNormalized))?,
             FileMaterial::CookTorrance(c) => self.cook_torrance(c, textures)?,
             FileMaterial::Light { emit } => {
-                let emit = self.colour(*emit, MAX_SAMPLE_VALUE, "emit")?;
+                // Not capped at the film's sample cap: a small bright light
+                // lights surfaces correctly; `strata render` warns that
+                // where it is seen directly its pixels clamp.
+                let emit = self.colour(*emit, f32::MAX, "emit")?;
                 (Material::DiffuseLight { emit }, None)
             }
         })

@@ -217,7 +217,7 @@ impl Source<'_> {
                 field,
                 format!(
                     "each component must be in [0, {max}], got {v}{}",
-                    if max == strata::render::MAX_SAMPLE_VALUE {
+                    if max == strata::render::MAX_SAMPLE_VALUE && v.max_element() > max {
                         // Brighter would be clamped without a word.
                         " (the film clamps every sample to 65536)"
                     } else {
@@ -229,9 +229,6 @@ impl Source<'_> {
     }
 }
 
-/// The TOML table that holds byte `offset`: `materials.glass` for a
-/// `[materials.glass]` header, `spheres[3]` for the fourth `[[spheres]]`,
-/// `(top level)` before any header.
 /// The table holding `offset` and, when `offset` is in a `key = value`
 /// line's value, the key: `camera.vfov`, `spheres[2].radius`.
 fn enclosing_key(text: &str, offset: usize) -> String {
@@ -249,12 +246,16 @@ fn enclosing_key(text: &str, offset: usize) -> String {
     }
 }
 
+/// A TOML bare key (not quoted or dotted).
 fn is_bare_key(k: &str) -> bool {
     !k.is_empty()
         && k.chars()
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
+/// The TOML table that holds byte `offset`: `materials.glass` for a
+/// `[materials.glass]` header, `spheres[3]` for the fourth `[[spheres]]`,
+/// `(top level)` before any header.
 fn enclosing_table(text: &str, offset: usize) -> String {
     let mut current = "(top level)".to_string();
     let mut arrays: BTreeMap<String, usize> = BTreeMap::new();

@@ -120,12 +120,13 @@ pub(super) fn spheres(
             section[i].get_ref().radius.span(),
             &format!("spheres[{i}].radius"),
             format!(
-                "{:e} is below what f32 resolves this far from the camera ({:e}): its \
-                 silhouette would be off by many radii; the radius must be at least {:e} \
-                 (2^-20 of the distance), or the scene must be scaled or moved nearer 0",
+                "{:e} is below what f32 resolves from the camera: the radius must be at least \
+                 2^-20 × (|look_from| + |center|) = {:e} (the sphere is {:e} from the camera, \
+                 whose rays round to 2^-24 of such distances), or the scene must be scaled or \
+                 moved nearer the origin",
                 s.radius,
+                SPHERE_MIN_RADIUS_RATIO * (reach + s.center.length()),
                 (s.center - look_from).length(),
-                SPHERE_MIN_RADIUS_RATIO * (reach + s.center.length())
             ),
         ));
     }
