@@ -357,7 +357,7 @@ fn positive_f32(s: &str) -> Result<f32, String> {
 
 /// `strata render` flags. Unset values come from the scene's defaults.
 /// (Serde: a checkpoint keeps them, to resume the same render.)
-#[derive(Clone, Debug, Args, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, Args, serde::Serialize, serde::Deserialize)]
 pub struct RenderArgs {
     /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
     /// TOML scene file.
@@ -479,10 +479,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_checkpoint: bool,
     /// Finish an interrupted render from its checkpoint: the flags, scene
-    /// and output are the checkpoint's (no other flag is taken); tiles it
-    /// holds are not rendered again, and the output is byte for byte the
-    /// uninterrupted render's.
-    #[arg(long, exclusive = true, value_name = "CHECKPOINT")]
+    /// and output are the checkpoint's (no other flag is taken but
+    /// --threads, which never changes the image); tiles it holds are not
+    /// rendered again, and the output is byte for byte the uninterrupted
+    /// render's.
+    #[arg(long, value_name = "CHECKPOINT")]
     #[serde(skip)]
     pub resume: Option<PathBuf>,
 }

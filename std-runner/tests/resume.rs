@@ -284,11 +284,12 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     };
     // A fresh render does not overwrite it.
     refused(&args, "--resume s.png.checkpoint");
-    // --resume takes no other flag.
-    refused(
-        &["render", "--resume", "s.png.checkpoint", "--spp", "3"],
-        "cannot be used with",
-    );
+    // --resume takes no other flag but --threads.
+    for flag in [&["--spp", "3"][..], &["--no-checkpoint"], &["-o", "t.png"]] {
+        let mut a = vec!["render", "--resume", "s.png.checkpoint"];
+        a.extend(flag);
+        refused(&a, "give it alone (or with --threads)");
+    }
     // Not a checkpoint.
     refused(&["render", "--resume", "s.toml"], "not a Strata checkpoint");
     // The checkpoint as an output.
@@ -308,14 +309,22 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     std::fs::write(&scene, toml.replace("0.5, 0.5, 0.5", "0.5, 0.5, 0.6")).unwrap();
     refused(&["render", "--resume", "s.png.checkpoint"], "scene_hash is");
     std::fs::write(&scene, toml).unwrap();
-    // Resumed from another directory: the paths were kept absolute.
+    // Resumed from another directory (the paths were kept absolute), on
+    // one thread.
     let elsewhere = tempfile::tempdir().unwrap();
     let path = d.join("s.png.checkpoint");
     let out = strata(
         elsewhere.path(),
-        &["render", "--resume", path.to_str().unwrap()],
+        &[
+            "render",
+            "--resume",
+            path.to_str().unwrap(),
+            "--threads",
+            "1",
+        ],
         None,
     );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on 1 threads"));
     assert!(
         out.status.success(),
         "{}",

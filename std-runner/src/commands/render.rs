@@ -9,7 +9,9 @@ use anyhow::{Context, Result, bail};
 use strata::render::{Adaptive, Tile, TileStats};
 
 use crate::checkpoint::{self, Checkpoint, STOP};
-use crate::cli::RenderArgs;
+use clap::Parser as _;
+
+use crate::cli::{Cli, Command, RenderArgs};
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
@@ -27,7 +29,25 @@ use crate::scenes::built_in;
 /// the report; or, with `--resume`, the rest of a checkpointed render.
 pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(path) = &args.resume {
-        return resume(path);
+        // Any flag but --threads would contradict the checkpoint's: the
+        // flags must be the defaults (clap cannot say what was given).
+        let Some(Command::Render(defaults)) = Cli::try_parse_from(["strata", "render"])?.command
+        else {
+            unreachable!("`strata render` parses as a render")
+        };
+        let given = RenderArgs {
+            resume: None,
+            threads: defaults.threads,
+            ..args.clone()
+        };
+        if given != defaults {
+            bail!(
+                "--resume takes its flags from the checkpoint: give it alone (or with --threads)"
+            );
+        }
+        // The thread count never changes the image: this run's --threads
+        // (or its default), not the interrupted run's.
+        return resume(path, args.threads);
     }
     let scene = resolve_scene(&args.scene)?;
     let plan = args.plan(&scene)?;
@@ -75,7 +95,7 @@ fn warn_bright_lights(scene: &SceneData) {
 
 /// `strata render --resume FILE`: the checkpoint's flags planned again
 /// (so every check runs again), its tiles kept, the rest rendered.
-fn resume(path: &Path) -> Result<()> {
+fn resume(path: &Path, threads: u16) -> Result<()> {
     let saved = checkpoint::read(path)?;
     let scene = resolve_scene(&saved.args.scene)
         .with_context(|| format!("the scene of the checkpoint `{}`", path.display()))?;
@@ -84,6 +104,7 @@ fn resume(path: &Path) -> Result<()> {
         .check(&plan.job)
         .with_context(|| format!("checkpoint `{}`", path.display()))?;
     plan.checkpoint = Some(path.to_path_buf());
+    plan.job.threads = threads as usize;
     let checkpoint = Checkpoint::reopen(path, &saved)?;
     if saved.dropped_bytes > 0 {
         say(&format!(
