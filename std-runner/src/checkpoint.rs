@@ -150,7 +150,10 @@ impl Checkpoint {
         head.push('\n');
         write_atomic(path, |tmp| write_file(tmp, head.as_bytes()))
             .with_context(|| format!("cannot write the checkpoint `{}`", path.display()))?;
-        Checkpoint::open_at(path, head.len() as u64, true)
+        // A file that cannot be opened for tiles holds none: not left.
+        Checkpoint::open_at(path, head.len() as u64, true).inspect_err(|_| {
+            std::fs::remove_file(path).ok();
+        })
     }
 
     /// Opens a checkpoint read by [`read`] for more tiles, cutting off a
@@ -167,7 +170,8 @@ impl Checkpoint {
             .with_context(cannot)?;
         // One writer: a second process resuming the same file (a requeued
         // job whose first run still lives) would interleave records.
-        if file.try_lock().is_err() {
+        // A file system without locks cannot have this check: go on.
+        if let Err(std::fs::TryLockError::WouldBlock) = file.try_lock() {
             bail!(
                 "the checkpoint `{}` is in use by another strata process",
                 path.display()

@@ -37,6 +37,36 @@ pub struct Cli {
     pub command: Option<Command>,
 }
 
+impl Cli {
+    /// Parses `args` (the program name first), noting which `render`
+    /// flags were given rather than defaulted
+    /// ([`RenderArgs::given`]).
+    pub fn parse_with_sources<I, T>(args: I) -> Result<Cli, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString> + Clone,
+    {
+        use clap::{CommandFactory, FromArgMatches, parser::ValueSource};
+        let command = Cli::command();
+        let matches = command.clone().try_get_matches_from(args)?;
+        let mut cli = Cli::from_arg_matches(&matches)?;
+        if let (Some(Command::Render(r)), Some(("render", sub)), Some(def)) = (
+            &mut cli.command,
+            matches.subcommand(),
+            command.find_subcommand("render"),
+        ) {
+            // Arguments only (the matches also hold the flags' group).
+            r.given = def
+                .get_arguments()
+                .map(|a| a.get_id().as_str())
+                .filter(|id| sub.value_source(id) == Some(ValueSource::CommandLine))
+                .map(str::to_string)
+                .collect();
+        }
+        Ok(cli)
+    }
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -486,6 +516,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "CHECKPOINT")]
     #[serde(skip)]
     pub resume: Option<PathBuf>,
+    /// The flags given on the command line (clap ids, e.g. `max_depth`),
+    /// as [`Cli::parse_with_sources`] finds them: `--resume` refuses all
+    /// but `threads`. Empty for arguments built in code.
+    #[arg(skip)]
+    #[serde(skip)]
+    pub given: Vec<String>,
 }
 
 /// The texture filters `--texture-filter` offers.

@@ -9,9 +9,7 @@ use anyhow::{Context, Result, bail};
 use strata::render::{Adaptive, Tile, TileStats};
 
 use crate::checkpoint::{self, Checkpoint, STOP};
-use clap::Parser as _;
-
-use crate::cli::{Cli, Command, RenderArgs};
+use crate::cli::RenderArgs;
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
@@ -29,25 +27,27 @@ use crate::scenes::built_in;
 /// the report; or, with `--resume`, the rest of a checkpointed render.
 pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(path) = &args.resume {
-        // Any flag but --threads would contradict the checkpoint's: the
-        // flags must be the defaults (clap cannot say what was given).
-        let Some(Command::Render(defaults)) = Cli::try_parse_from(["strata", "render"])?.command
-        else {
-            unreachable!("`strata render` parses as a render")
-        };
-        let given = RenderArgs {
-            resume: None,
-            threads: defaults.threads,
-            ..args.clone()
-        };
-        if given != defaults {
+        // Any flag but --threads would contradict the checkpoint's, even
+        // one given at its default value.
+        if let Some(flag) = args
+            .given
+            .iter()
+            .find(|g| !["resume", "threads"].contains(&g.as_str()))
+        {
             bail!(
-                "--resume takes its flags from the checkpoint: give it alone (or with --threads)"
+                "--resume takes its flags from the checkpoint, not --{}: give it alone (or with \
+                 --threads)",
+                flag.replace('_', "-")
             );
         }
-        // The thread count never changes the image: this run's --threads
-        // (or its default), not the interrupted run's.
-        return resume(path, args.threads);
+        // The thread count never changes the image: --threads if given,
+        // else the interrupted run's.
+        let threads = args
+            .given
+            .iter()
+            .any(|g| g == "threads")
+            .then_some(args.threads);
+        return resume(path, threads);
     }
     let scene = resolve_scene(&args.scene)?;
     let plan = args.plan(&scene)?;
@@ -95,7 +95,7 @@ fn warn_bright_lights(scene: &SceneData) {
 
 /// `strata render --resume FILE`: the checkpoint's flags planned again
 /// (so every check runs again), its tiles kept, the rest rendered.
-fn resume(path: &Path, threads: u16) -> Result<()> {
+fn resume(path: &Path, threads: Option<u16>) -> Result<()> {
     let saved = checkpoint::read(path)?;
     let scene = resolve_scene(&saved.args.scene)
         .with_context(|| format!("the scene of the checkpoint `{}`", path.display()))?;
@@ -104,7 +104,9 @@ fn resume(path: &Path, threads: u16) -> Result<()> {
         .check(&plan.job)
         .with_context(|| format!("checkpoint `{}`", path.display()))?;
     plan.checkpoint = Some(path.to_path_buf());
-    plan.job.threads = threads as usize;
+    if let Some(t) = threads {
+        plan.job.threads = t as usize;
+    }
     let checkpoint = Checkpoint::reopen(path, &saved)?;
     if saved.dropped_bytes > 0 {
         say(&format!(
@@ -118,10 +120,11 @@ fn resume(path: &Path, threads: u16) -> Result<()> {
     finish(&plan, Some(checkpoint), saved.tiles)
 }
 
-/// Set once every tile is done: a signal then lets the output be written
-/// (a moment) rather than leave a temporary file. Before, the first SIGINT
-/// or SIGTERM sets [`STOP`] (no new tile starts) and a second exits at
-/// once (the checkpoint's records are whole or dropped on resume).
+/// Set once every tile is done: a first signal then lets the output be
+/// written (a moment) rather than leave a temporary file; a second exits
+/// at once (the checkpoint is still whole). Before, the first SIGINT or
+/// SIGTERM sets [`STOP`] (no new tile starts) and a second exits at once
+/// (the checkpoint's records are whole or dropped on resume).
 static WRITING: AtomicBool = AtomicBool::new(false);
 
 /// Renders the tiles `done` lacks, appending each to `checkpoint`, then
@@ -136,8 +139,8 @@ fn finish(
         // Only one handler per process; a second render in one process
         // (tests) keeps the first, which sets the same flag.
         let _ = ctrlc::set_handler(|| {
-            if WRITING.load(Ordering::SeqCst) {
-                eprintln!("\nwriting the output: a moment");
+            if WRITING.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
+                eprintln!("\nwriting the output: a moment (again to quit at once)");
             } else if STOP.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             } else {
