@@ -529,6 +529,29 @@ fn scene_file_messages_blame_the_right_key() {
         )),
         "{e}"
     );
+    // So are a material's values of the wrong type or length and its
+    // unknown keys (serde reports them against the table).
+    for (to, key) in [
+        ("roughness = \"x\"", "roughness"),
+        ("roughness = [0.3]", "roughness"),
+    ] {
+        let e = broken(d, "roughness = 0.3", to);
+        assert!(
+            e.contains(&format!(
+                ":{}: materials.metal.{key}:",
+                line_of("roughness = 0.3")
+            )),
+            "{e}"
+        );
+    }
+    let e = broken(d, "roughness = 0.3", "roughness = 0.3\nfuzz = 1.0");
+    assert!(
+        e.contains(&format!(
+            ":{}: materials.metal.fuzz: unknown field",
+            line_of("roughness = 0.3") + 1
+        )),
+        "{e}"
+    );
     // A string over two lines stays a one-line message.
     let e = broken(d, "kind = \"mirror\"", "kind = \"\"\"mir\nror\"\"\"");
     assert!(e.contains("mir\\nror"), "{e}");

@@ -116,6 +116,63 @@ macro_rules! lobe {
     };
 }
 
+/// Where `key = ` is written in the table at `span` (a header and its
+/// lines up to the next header, or an inline table), outside comments.
+pub(super) fn key_in_table(text: &str, span: Range<usize>, key: &str) -> Option<Range<usize>> {
+    let start = span.start.min(text.len());
+    let first = text[start..].find('\n').map_or(text.len(), |i| start + i);
+    let end = text[first..]
+        .find("\n[")
+        .map_or(text.len(), |i| first + i)
+        .max(span.end.min(text.len()));
+    let body = &text[start..end];
+    let is_key_char = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    body.match_indices(key)
+        .find(|&(at, _)| {
+            // Not in a comment.
+            let line = &body[body[..at].rfind('\n').map_or(0, |i| i + 1)..at];
+            if line.contains('#') {
+                return false;
+            }
+            let before = body[..at].chars().next_back();
+            let after = body[at + key.len()..].trim_start_matches([' ', '\t']);
+            before.is_none_or(|c| !is_key_char(c) && c != '"') && after.starts_with('=')
+        })
+        .map(|(at, _)| start + at..start + at + key.len())
+}
+
+/// The key of material `name` that serde's `message` is about: named in
+/// it (an unknown field), or found by leaving each key out in turn until
+/// the message changes (a value of the wrong type or length, which serde's
+/// tagged enums report against the whole table); `None` for a missing
+/// key, which is the table's fault.
+pub(super) fn material_key_at_fault(text: &str, name: &str, message: &str) -> Option<String> {
+    if let Some(k) = message
+        .strip_prefix("unknown field `")
+        .and_then(|r| r.split('`').next())
+    {
+        return Some(k.to_string());
+    }
+    if message.starts_with("missing field") {
+        // The table's, which lacks it.
+        return None;
+    }
+    let doc: toml::Table = toml::from_str(text).ok()?;
+    let table = doc.get("materials")?.get(name)?.as_table()?;
+    table
+        .keys()
+        .filter(|k| *k != "kind")
+        .find(|k| {
+            let mut without = table.clone();
+            without.remove(k.as_str());
+            // Without the bad key the value error goes (serde reads values
+            // before it checks for missing keys), so the message changes.
+            FileMaterial::deserialize(toml::Value::Table(without))
+                .map_or_else(|e| e.message() != message, |_| true)
+        })
+        .cloned()
+}
+
 /// A material and, if its albedo is an image, the image's index.
 type Built = (Material<'static>, Option<usize>);
 
@@ -132,31 +189,7 @@ impl Table<'_> {
     /// serde's internally tagged enums cannot carry spans), else the
     /// table: an error about a key then points at its line.
     fn key_span(&self, key: &str) -> Range<usize> {
-        let text = self.src.text;
-        // The table's own lines: from its header (or inline table) to the
-        // next header.
-        let start = self.span.start.min(text.len());
-        let first = text[start..].find('\n').map_or(text.len(), |i| start + i);
-        let end = text[first..]
-            .find("\n[")
-            .map_or(text.len(), |i| first + i)
-            .max(self.span.end.min(text.len()));
-        let body = &text[start..end];
-        let is_key_char = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
-        body.match_indices(key)
-            .find(|&(at, _)| {
-                // Not in a comment.
-                let line = &body[body[..at].rfind('\n').map_or(0, |i| i + 1)..at];
-                if line.contains('#') {
-                    return false;
-                }
-                let before = body[..at].chars().next_back();
-                let after = body[at + key.len()..].trim_start_matches([' ', '\t']);
-                before.is_none_or(|c| !is_key_char(c) && c != '"') && after.starts_with('=')
-            })
-            .map_or(self.span.clone(), |(at, _)| {
-                start + at..start + at + key.len()
-            })
+        key_in_table(self.src.text, self.span.clone(), key).unwrap_or(self.span.clone())
     }
 
     /// An error about the material as a whole.
@@ -348,7 +381,7 @@ mod tests {
         };
         assert_eq!(
             lobe("phong", "kd = 0.5\nks = 0.5\nexponent = 2.0\nshine = 1.0"),
-            "s.toml:6: materials.m: unknown field `shine`, expected one of \
+            "s.toml:12: materials.m.shine: unknown field `shine`, expected one of \
              `albedo`, `texture`, `kd`, `ks`, `exponent`"
         );
         assert_eq!(

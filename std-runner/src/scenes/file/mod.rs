@@ -186,6 +186,15 @@ impl Source<'_> {
                 true => "(top level)".to_string(),
                 false => enclosing_key(self.text, span.start),
             };
+            // A material's keys are not spanned (a tagged enum): find the
+            // one at fault and its line.
+            if let Some(name) = field.strip_prefix("materials.")
+                && !name.contains('.')
+                && let Some(key) = materials::material_key_at_fault(self.text, name, message)
+            {
+                let at = materials::key_in_table(self.text, span.clone(), &key).unwrap_or(span);
+                return self.error(at, &format!("{field}.{key}"), message.to_string());
+            }
             self.error(span, &field, message.to_string())
         })
     }
