@@ -502,7 +502,11 @@ fn scene_file_messages_blame_the_right_key() {
         "look_from = [0.0, 1.0, 3.0]",
         "look_from = [0.0, 1.0, 1e30]",
     );
-    assert!(e.contains("camera:") && e.contains("too far"), "{e}");
+    assert!(
+        e.contains(&format!(":{}: camera.look_from:", line_of("look_from")))
+            && e.contains("too far"),
+        "{e}"
+    );
     let e = broken(d, "look_at = [0.0, 0.0, 0.0]", "look_at = [0.0, 1.0, 3.0]");
     assert!(e.contains("coincide"), "{e}");
     // A missing top-level table is the file's, not its first table's.

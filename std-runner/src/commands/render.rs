@@ -100,6 +100,7 @@ fn resume(path: &Path, threads: Option<u16>) -> Result<()> {
     let scene = resolve_scene(&saved.args.scene)
         .with_context(|| format!("the scene of the checkpoint `{}`", path.display()))?;
     let mut plan = saved.args.plan(&scene)?;
+    warn_bright_lights(&scene);
     saved
         .check(&plan.job)
         .with_context(|| format!("checkpoint `{}`", path.display()))?;

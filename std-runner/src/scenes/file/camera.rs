@@ -128,9 +128,16 @@ fn blame(
                 )
             }
             _ => {
+                // The key that puts the plane so far: focus_dist if given,
+                // else the farther of look_from and look_at.
                 let (span, field) = match &cam.focus_dist {
                     Some(f) => (f.span(), "camera.focus_dist"),
-                    None => (section.span(), "camera"),
+                    None if desc.look_from.as_dvec3().length()
+                        >= desc.look_at.as_dvec3().length() =>
+                    {
+                        (cam.look_from.span(), "camera.look_from")
+                    }
+                    None => (cam.look_at.span(), "camera.look_at"),
                 };
                 (
                     span,
