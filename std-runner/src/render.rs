@@ -367,6 +367,7 @@ pub fn run_resumable(
                 camera: &camera,
                 settings: &settings,
                 progress,
+                tiles: &all,
                 skip: &skip,
                 on_tile: resume.on_tile,
                 stop: resume.stop,
@@ -438,7 +439,9 @@ struct RenderAll<'a, 's> {
     camera: &'a Camera,
     settings: &'a RenderSettings,
     progress: &'a (dyn Fn(u64) + Sync),
-    /// Tiles not to render (done before).
+    /// The job's tiles ([`job_tiles`]), and those not to render (done
+    /// before).
+    tiles: &'a [Tile],
     skip: &'a [bool],
     on_tile: &'a (dyn Fn(&TileFilm) -> Result<()> + Sync),
     stop: &'a AtomicBool,
@@ -465,15 +468,18 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
         progress,
         ..
     } = *all;
-    let done: u64 = job_tiles(job)
+    let done: u64 = all
+        .tiles
         .iter()
         .zip(all.skip)
         .filter(|(_, s)| **s)
         .map(|(t, _)| t.area() as u64)
         .sum();
     progress(done);
-    let found: Result<Vec<Option<TileFilm>>> = job_tiles(job)
-        .into_par_iter()
+    let found: Result<Vec<Option<TileFilm>>> = all
+        .tiles
+        .par_iter()
+        .copied()
         .enumerate()
         .map(|(i, tile)| {
             if all.skip[i] || all.stop.load(Ordering::Relaxed) {

@@ -12,6 +12,11 @@ use std::process::{Command, Output, Stdio};
 
 const HOOK: &str = "STRATA_TEST_HOOK";
 
+/// A one-sphere scene file.
+const SCENE: &str = "[camera]\nlook_from = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nvfov = \
+                     60.0\n\n[materials.m]\nkind = \"lambertian\"\nalbedo = [0.5, 0.5, 0.5]\n\n\
+                     [[spheres]]\ncenter = [0.0, 0.0, -3.0]\nradius = 1.0\nmaterial = \"m\"\n";
+
 fn strata(dir: &Path, args: &[&str], hook: Option<&str>) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_strata"));
     c.args(args).current_dir(dir).env_remove(HOOK);
@@ -268,9 +273,7 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let scene = d.join("s.toml");
-    let toml = "[camera]\nlook_from = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nvfov = 60.0\n\n\
-                [[spheres]]\ncenter = [0.0, 0.0, -3.0]\nradius = 1.0\nmaterial = \"m\"\n\n\
-                [materials.m]\nkind = \"lambertian\"\nalbedo = [0.5, 0.5, 0.5]\n";
+    let toml = SCENE;
     std::fs::write(&scene, toml).unwrap();
     let args = [
         "render",
@@ -363,9 +366,7 @@ fn a_render_without_output_resumes_to_the_same_default_file() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     std::fs::create_dir(d.join("scenes")).unwrap();
-    let toml = "[camera]\nlook_from = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nvfov = 60.0\n\n\
-                [materials.m]\nkind = \"lambertian\"\nalbedo = [0.5, 0.5, 0.5]\n\n\
-                [[spheres]]\ncenter = [0.0, 0.0, -3.0]\nradius = 1.0\nmaterial = \"m\"\n";
+    let toml = SCENE;
     std::fs::write(d.join("scenes/s.toml"), toml).unwrap();
     let args = [
         "render",

@@ -95,6 +95,18 @@ impl Film {
         }
     }
 
+    /// The header without its checksum (0): for checks of a film built in
+    /// code, which has no file to check the checksum against.
+    pub(super) fn head_unchecked(&self) -> FilmHead {
+        FilmHead {
+            key: self.key.clone(),
+            window: self.window,
+            samples: self.samples.clone(),
+            border: self.border,
+            checksum: 0,
+        }
+    }
+
     /// The file bytes: header and body.
     #[must_use]
     pub fn to_bytes(&self) -> Vec<u8> {
@@ -432,13 +444,7 @@ pub(super) fn check_border(key: &RenderKey, border: u32) -> Result<()> {
 /// ([`Adaptive::can_take`](strata::render::Adaptive::can_take)). A merge
 /// checks the same of films built in code.
 pub(super) fn check_counts(film: &Film) -> Result<()> {
-    let head = FilmHead {
-        key: film.key.clone(),
-        window: film.window,
-        samples: film.samples.clone(),
-        border: film.border,
-        checksum: 0,
-    };
+    let head = film.head_unchecked();
     let check = CountCheck::new(&head)?;
     if film.pixels.len() != check.extent.area() {
         bail!(

@@ -54,17 +54,7 @@ pub fn merge_files(paths: &[PathBuf], whole_only: bool) -> Result<Film> {
 
 fn merge_films(parts: &[Film], names: &[PathBuf], whole_only: bool) -> Result<Film> {
     assert_eq!(parts.len(), names.len());
-    let heads: Vec<FilmHead> = parts
-        .iter()
-        .map(|p| FilmHead {
-            key: p.key.clone(),
-            window: p.window,
-            samples: p.samples.clone(),
-            border: p.border,
-            // Not read from a file: nothing to check it against.
-            checksum: 0,
-        })
-        .collect();
+    let heads: Vec<FilmHead> = parts.iter().map(Film::head_unchecked).collect();
     let refs: Vec<&FilmHead> = heads.iter().collect();
     let mut out = Merged::plan(&refs, names, whole_only)?;
     // Films built in code rather than read: the same checks as `from_bytes`.
