@@ -6,18 +6,21 @@
 //! appended as each tile finishes:
 //!
 //! ```text
-//! strata-checkpoint 1
-//! args=<the render's flags as JSON, paths made absolute>
+//! strata-checkpoint 2
+//! args=<the render's flags as JSON; paths below the checkpoint's
+//!      directory relative to it, others absolute>
 //! version=...              the RenderKey fields of the render, then
 //! window=x0,x1,y0,y1       its pixel window, sample range and tiling:
 //! samples=A..B
 //! tile=N                   tile side
 //! tiles=N                  tile count
+//! head_checksum=<16 hex>   FNV-1a 64 of every header byte before this
+//!                          line: the render's id
 //!                          (an empty line ends the header)
-//! record: b"TILE", tile index u32, pixel count u32, paths, rays and
-//!         shadow rays u64, the tile's film (64-byte pixel records as in
-//!         a .film body), FNV-1a 64 of the record's preceding bytes;
-//!         little-endian.
+//! record: b"TILE", the render's id u64, tile index u32, pixel count u32,
+//!         paths, rays and shadow rays u64, the tile's film (64-byte
+//!         pixel records as in a .film body), FNV-1a 64 of the record's
+//!         preceding bytes; little-endian.
 //! ```
 //!
 //! A record is complete or it is not there: a process killed while
@@ -26,6 +29,17 @@
 //! killed render leaves only its checkpoint, and every tile the file holds
 //! whole is never rendered again. The header is written to a temporary
 //! file and renamed into place before the first tile starts.
+//!
+//! Damage is reported as damage, never acted on: a header whose checksum
+//! fails is refused before any of it is used (its flags pass the one
+//! check of [`RenderArgs::validate`] after that too), a whole record of
+//! another render (another id) is refused, and every record's pixels are
+//! checked as a `.film` body's are (each pixel of the tile took the
+//! range's samples, each pixel of a splat margin none).
+//!
+//! Paths below the checkpoint's directory are kept relative to it, so a
+//! job directory that is moved (or copied to another machine) resumes
+//! with its files where they now are.
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -35,17 +49,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use strata::render::TileStats;
+use strata::render::{PixelSum, Tile, TileStats};
 
 use crate::cli::RenderArgs;
 use crate::film::{
-    BYTES_PER_PIXEL, RenderKey, decode_pixels, encode_pixels, samples_text, window_text,
+    BYTES_PER_PIXEL, RenderKey, count_problem, decode_pixels, encode_pixels, samples_text,
+    window_text,
 };
 use crate::image_io::{write_atomic, write_file};
 use crate::render::{Job, TileFilm, job_tiles, tile_film_len, tile_side};
 
 /// The first line of every checkpoint.
-pub const MAGIC: &str = "strata-checkpoint 1";
+pub const MAGIC: &str = "strata-checkpoint 2";
 
 /// How often appended tiles are flushed to the disk itself (`fsync`), in
 /// seconds; also on an interrupt and at the end. A killed process loses
@@ -67,9 +82,15 @@ pub static STOP: AtomicBool = AtomicBool::new(false);
 /// Longest checkpoint header read (the flags and the render's key).
 const MAX_HEADER_BYTES: usize = 64 * 1024;
 
-/// Bytes of a record around its pixels: tag, index, count, three counts,
-/// checksum.
-const RECORD_OVERHEAD: usize = 4 + 4 + 4 + 3 * 8 + 8;
+/// Bytes of a record around its pixels: tag, render id, index, count,
+/// three counts, checksum.
+const RECORD_OVERHEAD: usize = 4 + 8 + 4 + 4 + 3 * 8 + 8;
+
+/// Bytes of a record before its pixels.
+const RECORD_HEAD: usize = RECORD_OVERHEAD - 8;
+
+/// The header line that ends every header, before its empty line.
+const HEAD_CHECKSUM: &str = "head_checksum=";
 
 /// The checkpoint name of an output when `--checkpoint` is not given:
 /// `OUTPUT.checkpoint`, beside it.
@@ -97,7 +118,8 @@ pub fn identity(job: &Job<'_>) -> Vec<(String, String)> {
 
 /// A checkpoint read back: the render's flags, who it is, and its tiles.
 pub struct Saved {
-    /// The flags of the render (paths absolute).
+    /// The flags of the render, paths resolved (those kept relative to
+    /// the checkpoint's directory are joined to where it is now).
     pub args: RenderArgs,
     /// [`identity`] as written.
     pub identity: Vec<(String, String)>,
@@ -108,11 +130,15 @@ pub struct Saved {
     pub dropped_bytes: u64,
     /// Bytes of the header and the whole records: where appending goes on.
     end: u64,
+    /// The render's id: the header's checksum, which every record holds.
+    id: u64,
 }
 
 /// An open checkpoint that finished tiles are appended to.
 pub struct Checkpoint {
     path: PathBuf,
+    /// The render's id (the header's checksum), written into each record.
+    id: u64,
     inner: Mutex<Appender>,
     hook: Option<TestHook>,
     /// Made by this process (not a resumed one).
@@ -140,18 +166,22 @@ enum TestHook {
 
 impl Checkpoint {
     /// Writes a new checkpoint's header (atomically) and opens it for
-    /// tiles. `args` must already hold absolute paths.
+    /// tiles. `args` must hold absolute paths; those below the
+    /// checkpoint's directory are written relative to it.
     pub fn create(path: &Path, args: &RenderArgs, job: &Job<'_>) -> Result<Checkpoint> {
-        let json = serde_json::to_string(args).context("encoding the flags")?;
+        let dir = directory_of(path)?;
+        let json =
+            serde_json::to_string(&paths_from(args, &dir, anchor)).context("encoding the flags")?;
         let mut head = format!("{MAGIC}\nargs={json}\n");
         for (k, v) in identity(job) {
             head.push_str(&format!("{k}={v}\n"));
         }
-        head.push('\n');
+        let id = crate::hash::fnv1a(head.as_bytes());
+        head.push_str(&format!("{HEAD_CHECKSUM}{id:016x}\n\n"));
         write_atomic(path, |tmp| write_file(tmp, head.as_bytes()))
             .with_context(|| format!("cannot write the checkpoint `{}`", path.display()))?;
         // A file that cannot be opened for tiles holds none: not left.
-        Checkpoint::open_at(path, head.len() as u64, true).inspect_err(|_| {
+        Checkpoint::open_at(path, head.len() as u64, id, true).inspect_err(|_| {
             std::fs::remove_file(path).ok();
         })
     }
@@ -159,10 +189,10 @@ impl Checkpoint {
     /// Opens a checkpoint read by [`read`] for more tiles, cutting off a
     /// torn last record.
     pub fn reopen(path: &Path, saved: &Saved) -> Result<Checkpoint> {
-        Checkpoint::open_at(path, saved.end, false)
+        Checkpoint::open_at(path, saved.end, saved.id, false)
     }
 
-    fn open_at(path: &Path, end: u64, new: bool) -> Result<Checkpoint> {
+    fn open_at(path: &Path, end: u64, id: u64, new: bool) -> Result<Checkpoint> {
         let cannot = || format!("cannot open the checkpoint `{}`", path.display());
         let mut file = OpenOptions::new()
             .write(true)
@@ -181,6 +211,7 @@ impl Checkpoint {
         file.seek(SeekFrom::Start(end)).with_context(cannot)?;
         Ok(Checkpoint {
             path: path.to_path_buf(),
+            id,
             inner: Mutex::new(Appender {
                 file,
                 synced: Instant::now(),
@@ -205,9 +236,11 @@ impl Checkpoint {
         &self.path
     }
 
-    /// Appends a finished tile (one write of the whole record).
+    /// Appends a finished tile (one write of the whole record). After a
+    /// failed write the file is cut back to its last whole record and
+    /// takes no more: the render may go on without it.
     pub fn append(&self, tile: &TileFilm) -> Result<()> {
-        let record = encode_record(tile);
+        let record = encode_record(self.id, tile);
         let mut a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(TestHook::Hold(n)) = self.hook
             && a.appended >= n
@@ -276,10 +309,11 @@ fn test_hook() -> Result<Option<TestHook>> {
     }
 }
 
-fn encode_record(tile: &TileFilm) -> Vec<u8> {
+fn encode_record(id: u64, tile: &TileFilm) -> Vec<u8> {
     let (index, pixels, stats) = tile;
     let mut out = Vec::with_capacity(RECORD_OVERHEAD + pixels.len() * BYTES_PER_PIXEL);
     out.extend_from_slice(b"TILE");
+    out.extend_from_slice(&id.to_le_bytes());
     out.extend_from_slice(&index.to_le_bytes());
     out.extend_from_slice(&(pixels.len() as u32).to_le_bytes());
     for c in [stats.paths, stats.rays, stats.shadow_rays] {
@@ -291,28 +325,58 @@ fn encode_record(tile: &TileFilm) -> Vec<u8> {
     out
 }
 
-/// Reads a checkpoint: its header, and its whole records up to the first
-/// torn one. Errors name the file.
+/// Reads a checkpoint: its header (checked against its checksum), and its
+/// whole records up to the first torn one; paths kept relative are joined
+/// to the checkpoint's directory. Errors name the file.
 pub fn read(path: &Path) -> Result<Saved> {
+    let name = || format!("checkpoint `{}`", path.display());
     let mut bytes = Vec::new();
     File::open(path)
         .and_then(|mut f| f.read_to_end(&mut bytes))
         .with_context(|| format!("cannot read the checkpoint `{}`", path.display()))?;
-    parse(&bytes).with_context(|| format!("checkpoint `{}`", path.display()))
+    let mut saved = parse(&bytes).with_context(name)?;
+    let dir = directory_of(path).with_context(name)?;
+    saved.args = paths_from(&saved.args, &dir, |p, d| d.join(p));
+    Ok(saved)
 }
 
 fn parse(bytes: &[u8]) -> Result<Saved> {
-    if !bytes.starts_with(format!("{MAGIC}\n").as_bytes()) {
+    let first = bytes
+        .iter()
+        .position(|&b| b == b'\n')
+        .unwrap_or(bytes.len());
+    if &bytes[..first] != MAGIC.as_bytes() {
+        if bytes.starts_with(b"strata-checkpoint ") {
+            let shown = String::from_utf8_lossy(&bytes[..first.min(40)]).into_owned();
+            bail!(
+                "a checkpoint of another format (`{shown}`; this build reads `{MAGIC}`): finish \
+                 it with the strata that wrote it, or delete it to render again"
+            );
+        }
         bail!("not a Strata checkpoint (no `{MAGIC}` line)");
     }
     let head_bytes = &bytes[..bytes.len().min(MAX_HEADER_BYTES)];
     let Some(end) = head_bytes.windows(2).position(|w| w == b"\n\n") else {
         bail!("cut off in its header, or a header over 64 KB: not a usable checkpoint");
     };
-    let head = std::str::from_utf8(&bytes[..end]).context("header is not UTF-8")?;
+    // The last header line is the checksum of everything before it; no
+    // other byte of the header is used before it matches.
+    let last = bytes[..end]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let id = std::str::from_utf8(&bytes[last..end])
+        .ok()
+        .and_then(|l| l.strip_prefix(HEAD_CHECKSUM))
+        .and_then(|h| u64::from_str_radix(h, 16).ok())
+        .filter(|&id| id == crate::hash::fnv1a(&bytes[..last]));
+    let Some(id) = id else {
+        bail!("its header is damaged (its checksum does not match): delete it to render again");
+    };
+    let head = std::str::from_utf8(&bytes[first + 1..last]).context("header is not UTF-8")?;
     let mut args = None;
     let mut identity = Vec::new();
-    for line in head.lines().skip(1) {
+    for line in head.lines() {
         let (k, v) = line.split_once('=').with_context(|| {
             let shown: String = line.chars().take(80).collect();
             format!("header line `{shown}` is not key=value")
@@ -331,7 +395,15 @@ fn parse(bytes: &[u8]) -> Result<Saved> {
     let mut at = end + 2;
     let mut tiles = Vec::new();
     while let Some((tile, len)) = parse_record(&bytes[at..]) {
-        tiles.push(tile);
+        if tile.0 != id {
+            bail!(
+                "its record of tile {} belongs to another render (its id is {:016x}, the \
+                 header's {id:016x}): the file is damaged; delete it to render again",
+                tile.1.0,
+                tile.0
+            );
+        }
+        tiles.push(tile.1);
         at += len;
     }
     Ok(Saved {
@@ -340,37 +412,70 @@ fn parse(bytes: &[u8]) -> Result<Saved> {
         tiles,
         dropped_bytes: (bytes.len() - at) as u64,
         end: at as u64,
+        id,
     })
 }
 
-/// One whole record at the start of `b` and its length, or `None` if it is
-/// cut off or its checksum fails (a torn append).
-fn parse_record(b: &[u8]) -> Option<(TileFilm, usize)> {
+/// One whole record at the start of `b` (its render id and its tile) and
+/// its length, or `None` if it is cut off or its checksum fails (a torn
+/// append).
+fn parse_record(b: &[u8]) -> Option<((u64, TileFilm), usize)> {
     let u32_at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
     let u64_at = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().unwrap());
     if b.len() < RECORD_OVERHEAD || &b[..4] != b"TILE" {
         return None;
     }
-    let count = u32_at(8) as usize;
+    let count = u32_at(16) as usize;
     let body = count.checked_mul(BYTES_PER_PIXEL)?;
     let len = RECORD_OVERHEAD.checked_add(body)?;
     if b.len() < len || u64_at(len - 8) != crate::hash::fnv1a(&b[..len - 8]) {
         return None;
     }
     let stats = TileStats {
-        paths: u64_at(12),
-        rays: u64_at(20),
-        shadow_rays: u64_at(28),
+        paths: u64_at(20),
+        rays: u64_at(28),
+        shadow_rays: u64_at(36),
     };
-    let pixels = decode_pixels(&b[36..36 + body]);
-    Some(((u32_at(4), pixels, stats), len))
+    let pixels = decode_pixels(&b[RECORD_HEAD..RECORD_HEAD + body]);
+    Some(((u64_at(4), (u32_at(12), pixels, stats)), len))
+}
+
+/// The absolute directory a checkpoint is (or will be) in.
+fn directory_of(path: &Path) -> Result<PathBuf> {
+    let abs = std::path::absolute(path)
+        .with_context(|| format!("cannot resolve `{}`", path.display()))?;
+    Ok(abs.parent().map(Path::to_path_buf).unwrap_or(abs))
+}
+
+/// `p` relative to `dir` if it lies below it, else as it is.
+fn anchor(p: &Path, dir: &Path) -> PathBuf {
+    p.strip_prefix(dir)
+        .map_or_else(|_| p.to_path_buf(), Path::to_path_buf)
+}
+
+/// `args` with every path (the scene file's, the outputs') mapped by
+/// `f(path, dir)`; a built-in scene's name is left alone.
+fn paths_from(args: &RenderArgs, dir: &Path, f: impl Fn(&Path, &Path) -> PathBuf) -> RenderArgs {
+    let mut out = args.clone();
+    let map = |p: &Option<PathBuf>| p.as_deref().map(|p| f(p, dir));
+    if crate::scenes::built_in(&args.scene).is_none() {
+        out.scene = f(Path::new(&args.scene), dir)
+            .to_string_lossy()
+            .into_owned();
+    }
+    out.output = map(&args.output);
+    out.stats = map(&args.stats);
+    out.spp_map = map(&args.spp_map);
+    out.checkpoint = map(&args.checkpoint);
+    out
 }
 
 impl Saved {
     /// Checks the saved tiles against the job a resumed render makes of
     /// the saved flags: the same render (else the first field that
     /// differs is named), each tile a tile of it, once, with a film of its
-    /// size.
+    /// size whose pixels took what a film's must (the tile's pixels the
+    /// range's samples, a splat margin's none).
     pub fn check(&self, job: &Job<'_>) -> Result<()> {
         let now = identity(job);
         for (k, v) in &now {
@@ -380,6 +485,8 @@ impl Saved {
                     "it is of another render than its flags make now: {k} is `{saved}` there, \
                      `{v}` now{}",
                     match k.as_str() {
+                        "scene_hash" if crate::scenes::built_in(&job.scene.name).is_some() =>
+                            " (this build's built-in scene differs)",
                         "scene_hash" => " (the scene file changed)",
                         "version" => " (another build of strata)",
                         _ => "",
@@ -402,9 +509,33 @@ impl Saved {
             if pixels.len() != tile_film_len(job, tiles[i])? {
                 bail!("its tile {i} has {} pixels, not its tile's", pixels.len());
             }
+            check_tile_counts(job, tiles[i], pixels)
+                .with_context(|| format!("its record of tile {i} is damaged"))?;
         }
         Ok(())
     }
+}
+
+/// The sample counts of a tile's film (the tile, and for a splatted
+/// filter its margin a side): as a `.film` body's are checked.
+fn check_tile_counts(job: &Job<'_>, tile: Tile, pixels: &[PixelSum]) -> Result<()> {
+    let m = match job.splats() {
+        true => job.filter.splat_margin() as i64,
+        false => 0,
+    };
+    let pw = tile.width as i64 + 2 * m;
+    for (i, p) in pixels.iter().enumerate() {
+        let (dx, dy) = (i as i64 % pw - m, i as i64 / pw - m);
+        let owned = (0..tile.width as i64).contains(&dx) && (0..tile.height as i64).contains(&dy);
+        if let Some(why) = count_problem(p, owned, &job.samples, job.adaptive) {
+            bail!(
+                "pixel ({}, {}) {why}",
+                tile.x0 as i64 + dx,
+                tile.y0 as i64 + dy
+            );
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -429,10 +560,10 @@ mod tests {
 
     #[test]
     fn records_round_trip_and_torn_ones_are_dropped() {
-        let a = encode_record(&record(4, 5));
-        let b = encode_record(&record(9, 2));
-        let (got, len) = parse_record(&a).unwrap();
-        assert_eq!(len, a.len());
+        let a = encode_record(7, &record(4, 5));
+        let b = encode_record(7, &record(9, 2));
+        let ((id, got), len) = parse_record(&a).unwrap();
+        assert_eq!((id, len), (7, a.len()));
         assert_eq!(got, record(4, 5));
         // Every cut of the second record leaves the first alone readable.
         let both = [a.clone(), b.clone()].concat();
@@ -448,19 +579,104 @@ mod tests {
         }
     }
 
+    /// A header: its checksum, then records of its id.
+    fn file(records: &[Vec<u8>]) -> (Vec<u8>, u64) {
+        let head = format!("{MAGIC}\nargs={}\nseed=0\n", args_json());
+        let id = crate::hash::fnv1a(head.as_bytes());
+        let mut out = format!("{head}{HEAD_CHECKSUM}{id:016x}\n\n").into_bytes();
+        for r in records {
+            out.extend_from_slice(r);
+        }
+        (out, id)
+    }
+
+    fn args_json() -> String {
+        use clap::Parser;
+        let cli = crate::cli::Cli::try_parse_from(["strata", "render"]).unwrap();
+        let Some(crate::cli::Command::Render(a)) = cli.command else {
+            unreachable!()
+        };
+        serde_json::to_string(&a).unwrap()
+    }
+
+    #[test]
+    fn a_damaged_header_or_another_renders_record_is_refused() {
+        let (_, id) = file(&[]);
+        let (good, _) = file(&[encode_record(id, &record(0, 3))]);
+        let saved = parse(&good).unwrap();
+        assert_eq!(saved.tiles, [record(0, 3)]);
+        assert_eq!(saved.dropped_bytes, 0);
+        // Every flipped bit of the header is found before it is used.
+        let head_len = good.windows(2).position(|w| w == b"\n\n").unwrap();
+        for at in MAGIC.len() + 1..head_len {
+            let mut bad = good.clone();
+            bad[at] ^= 0x01;
+            let e = parse(&bad).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(e.contains("damaged"), "byte {at}: {e}");
+        }
+        // A whole record of another render: refused, not merged.
+        let (other, _) = file(&[encode_record(id ^ 1, &record(0, 3))]);
+        let e = parse(&other).err().unwrap().to_string();
+        assert!(e.contains("another render"), "{e}");
+        // The old format is named with this one.
+        let e = parse(b"strata-checkpoint 1\nargs={}\n\n")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("strata-checkpoint 1") && e.contains(MAGIC),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn paths_below_the_checkpoint_are_kept_relative() {
+        use clap::Parser;
+        let cli = crate::cli::Cli::try_parse_from([
+            "strata",
+            "render",
+            "--scene",
+            "/a/job/s.toml",
+            "-o",
+            "/a/job/out/x.png",
+            "--stats",
+            "/elsewhere/s.json",
+        ])
+        .unwrap();
+        let Some(crate::cli::Command::Render(a)) = cli.command else {
+            unreachable!()
+        };
+        let kept = paths_from(&a, Path::new("/a/job"), anchor);
+        assert_eq!(kept.scene, "s.toml");
+        assert_eq!(kept.output.as_deref(), Some(Path::new("out/x.png")));
+        assert_eq!(kept.stats.as_deref(), Some(Path::new("/elsewhere/s.json")));
+        // Moved to /b/job: resolved there, the outside path kept.
+        let back = paths_from(&kept, Path::new("/b/job"), |p, d| d.join(p));
+        assert_eq!(back.scene, "/b/job/s.toml");
+        assert_eq!(back.output.as_deref(), Some(Path::new("/b/job/out/x.png")));
+        assert_eq!(back.stats.as_deref(), Some(Path::new("/elsewhere/s.json")));
+        // A built-in scene is a name, not a path.
+        let mut b = a.clone();
+        b.scene = "cover".into();
+        assert_eq!(
+            paths_from(&b, Path::new("/b"), |p, d| d.join(p)).scene,
+            "cover"
+        );
+    }
+
     #[test]
     fn one_process_at_a_time_appends() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("c.checkpoint");
         std::fs::write(&path, b"header\n\n").unwrap();
-        let first = Checkpoint::open_at(&path, 8, false).unwrap();
-        let e = Checkpoint::open_at(&path, 8, false).err().unwrap();
+        let first = Checkpoint::open_at(&path, 8, 0, false).unwrap();
+        let e = Checkpoint::open_at(&path, 8, 0, false).err().unwrap();
         assert!(
             e.to_string().contains("in use by another strata process"),
             "{e}"
         );
         drop(first);
-        assert!(Checkpoint::open_at(&path, 8, false).is_ok());
+        assert!(Checkpoint::open_at(&path, 8, 0, false).is_ok());
     }
 
     #[test]

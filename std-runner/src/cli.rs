@@ -13,7 +13,7 @@ use strata::render::{PixelFilter, TextureFilter};
 use crate::image_io::Transfer;
 use crate::limits::{
     MAX_DEPTH, MAX_MIN_TIME_MS, MAX_PANEL_WIDTH, MAX_PATTERN_PIXELS, MAX_PATTERN_SPP, MAX_RANGE,
-    MAX_REPETITIONS, MAX_SEEDS, MAX_SPP, MAX_STUDY_SPP, MAX_THREADS, MAX_TILE, MAX_WIDTH,
+    MAX_REPETITIONS, MAX_SEEDS, MAX_SPP, MAX_STUDY_SPP, MAX_THREADS, MAX_WIDTH,
 };
 use crate::render::SamplerKind;
 use crate::scenes::{BVH_THRESHOLD, BvhMode};
@@ -105,21 +105,25 @@ pub enum Command {
 }
 
 /// Parses `x0,x1,y0,y1` (pixels, half-open: columns x0..x1, rows y0..y1),
-/// like pbrt's `--pixelbounds`.
+/// like pbrt's `--pixelbounds`. Only parses: the window is checked
+/// against the image where it is used ([`crate::commands`]'s
+/// `window_of`).
 fn pixel_bounds(s: &str) -> Result<[u32; 4], String> {
+    four(s, "a pixel coordinate")
+}
+
+/// Parses four comma-separated numbers, `x0,x1,y0,y1`.
+fn four<T: std::str::FromStr + Default + Copy>(s: &str, what: &str) -> Result<[T; 4], String> {
     let v: Vec<&str> = s.split(',').collect();
-    let [x0, x1, y0, y1] = v[..] else {
+    let [_, _, _, _] = v[..] else {
         return Err(format!("`{s}` is not x0,x1,y0,y1"));
     };
-    let mut out = [0u32; 4];
-    for (o, t) in out.iter_mut().zip([x0, x1, y0, y1]) {
+    let mut out = [T::default(); 4];
+    for (o, t) in out.iter_mut().zip(v) {
         *o = t
             .trim()
             .parse()
-            .map_err(|_| format!("`{t}` is not a pixel coordinate"))?;
-    }
-    if out[0] >= out[1] || out[2] >= out[3] {
-        return Err(format!("`{s}` is empty: need x0 < x1 and y0 < y1"));
+            .map_err(|_| format!("`{t}` is not {what}"))?;
     }
     Ok(out)
 }
@@ -387,6 +391,11 @@ fn positive_f32(s: &str) -> Result<f32, String> {
 
 /// `strata render` flags. Unset values come from the scene's defaults.
 /// (Serde: a checkpoint keeps them, to resume the same render.)
+///
+/// The parsers only parse: every range and every relation between flags
+/// is checked by [`RenderArgs::validate`] (`crate::settings`), the one
+/// check of a render's settings however they arrive (this command line, a
+/// checkpoint's header).
 #[derive(Clone, Debug, PartialEq, Args, serde::Serialize, serde::Deserialize)]
 pub struct RenderArgs {
     /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
@@ -394,20 +403,20 @@ pub struct RenderArgs {
     #[arg(long, default_value = "week09")]
     pub scene: String,
     /// Image width in pixels [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
+    #[arg(long)]
     pub width: Option<u32>,
     /// Image height in pixels [default: width / aspect].
-    #[arg(long, conflicts_with = "aspect", value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
+    #[arg(long, conflicts_with = "aspect")]
     pub height: Option<u32>,
     /// Width / height [default: the scene's, 16:9 for the built-ins].
-    #[arg(long, allow_hyphen_values = true, value_parser = positive_f32)]
+    #[arg(long, allow_hyphen_values = true)]
     pub aspect: Option<f32>,
     /// Samples per pixel [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_SPP as i64))]
+    #[arg(long)]
     pub spp: Option<u32>,
     /// Ray segments from the camera per path (1 = camera rays only)
     /// [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    #[arg(long)]
     pub max_depth: Option<u32>,
     /// Pixel sampler.
     #[arg(long, value_enum, default_value_t = SamplerKind::Independent)]
@@ -416,10 +425,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
+    #[arg(long, default_value_t = 2)]
     pub threads: u16,
     /// Tile side in pixels (changes speed, never the image).
-    #[arg(long, default_value_t = 32, value_parser = value_parser!(u32).range(1..=MAX_TILE as i64))]
+    #[arg(long, default_value_t = 32)]
     pub tile: u32,
     /// PNG transfer curve: sRGB, or the course's gamma 2.
     #[arg(long, value_enum, default_value_t = Transfer::Srgb)]
@@ -453,7 +462,6 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_name = "THRESHOLD",
-        value_parser = positive_f32,
         num_args = 0..=1,
         default_missing_value = DEFAULT_THRESHOLD_TEXT,
         conflicts_with_all = ["samples", "spp"]
@@ -461,11 +469,11 @@ pub struct RenderArgs {
     pub adaptive: Option<f32>,
     /// The fewest samples a pixel takes with --adaptive (a multiple of 4,
     /// at least 8).
-    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MIN, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
+    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MIN)]
     pub min_spp: u32,
     /// The most samples a pixel takes with --adaptive (rounded down to
     /// whole blocks of --min-spp/4).
-    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MAX, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
+    #[arg(long, requires = "adaptive", default_value_t = strata::render::Adaptive::DEFAULT_MAX)]
     pub max_spp: u32,
     /// With --adaptive, also write a heat map of the samples each pixel
     /// took as a PNG (viridis, log scale: dark = --min-spp, yellow =
@@ -485,7 +493,7 @@ pub struct RenderArgs {
     /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5
     /// (σ 0.5), mitchell 2 (B = C = 1/3), lanczos 3 (τ 3),
     /// blackman-harris 1.5].
-    #[arg(long, value_parser = positive_f32)]
+    #[arg(long, allow_hyphen_values = true)]
     pub filter_radius: Option<f32>,
     /// Texture filtering: none (point sampling, the course's) or box (the
     /// checker averaged in closed form over each camera ray's footprint,
@@ -592,31 +600,17 @@ impl FilterName {
     }
 }
 
-/// Parses `x0,x1,y0,y1` fractions in [0, 1] with x0 < x1, y0 < y1.
+/// Parses `x0,x1,y0,y1` fractions (checked by the validation).
 fn crop_window(s: &str) -> Result<[f32; 4], String> {
-    let v: Vec<&str> = s.split(',').collect();
-    let [_, _, _, _] = v[..] else {
-        return Err(format!("`{s}` is not x0,x1,y0,y1"));
-    };
-    let mut out = [0f32; 4];
-    for (o, t) in out.iter_mut().zip(v) {
-        *o = t
-            .trim()
-            .parse()
-            .ok()
-            .filter(|x: &f32| (0.0..=1.0).contains(x))
-            .ok_or_else(|| format!("`{t}` is not a fraction in [0, 1]"))?;
-    }
-    if out[0] >= out[1] || out[2] >= out[3] {
-        return Err(format!("`{s}` is empty: need x0 < x1 and y0 < y1"));
-    }
-    Ok(out)
+    four(s, "a number")
 }
 
-/// Parses `A..B` sample indices, `A < B`.
+/// Parses `A..B` sample indices (checked by the validation).
 fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
-    crate::film::parse_samples(s)
-        .ok_or_else(|| format!("`{s}` is not a sample range A..B with A < B"))
+    let parsed = s
+        .split_once("..")
+        .and_then(|(a, b)| Some(a.trim().parse().ok()?..b.trim().parse().ok()?));
+    parsed.ok_or_else(|| format!("`{s}` is not a sample range A..B"))
 }
 
 /// `strata merge` flags.

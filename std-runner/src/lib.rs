@@ -14,6 +14,7 @@ pub mod limits;
 pub mod plot;
 pub mod render;
 pub mod scenes;
+pub mod settings;
 pub mod spectrum;
 pub mod study;
 pub mod workload;

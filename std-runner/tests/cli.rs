@@ -480,6 +480,30 @@ fn bad_scene_files_name_file_line_and_field() {
         "background = [0.1, 7e4, 0.12]",
     );
     assert!(e.contains("background") && e.contains("65536"), "{e}");
+    // A fourth component was once dropped without a word.
+    let e = broken(
+        d,
+        "center = [0.0, 2.0, 0.0]",
+        "center = [0.0, 2.0, 0.0, 1.0]",
+    );
+    assert!(
+        e.contains(&format!(":{}:", line_of("center = [0.0, 2.0, 0.0]")))
+            && e.contains("spheres[10].center")
+            && e.contains("4 numbers where a point or direction takes three"),
+        "{e}"
+    );
+    for key in ["look_from", "look_at"] {
+        let at = SCENE.find(&format!("{key} = [")).unwrap();
+        let close = at + SCENE[at..].find(']').unwrap();
+        let line = &SCENE[at..=close];
+        let e = broken(d, line, &line.replace(']', ", 0.0]"));
+        assert!(
+            e.contains(&format!(":{}:", line_of(line)))
+                && e.contains(&format!("camera.{key}"))
+                && e.contains("4 numbers"),
+            "{e}"
+        );
+    }
     let e = broken(d, "[camera]", "[camera]\nzoom = 2.0");
     assert!(
         e.contains("camera") && e.contains("zoom"),

@@ -72,9 +72,11 @@ fn recorded(path: &Path) -> usize {
     };
     let mut at = head + 2;
     let mut n = 0;
-    while at + 12 <= b.len() {
-        let count = u32::from_le_bytes(b[at + 8..at + 12].try_into().unwrap()) as usize;
-        let len = 44 + 64 * count;
+    // TILE, render id, index, count | paths, rays, shadow rays | pixels
+    // | checksum.
+    while at + 20 <= b.len() {
+        let count = u32::from_le_bytes(b[at + 16..at + 20].try_into().unwrap()) as usize;
+        let len = 52 + 64 * count;
         if at + len > b.len() {
             break;
         }
@@ -304,19 +306,30 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     };
     // A fresh render does not overwrite it.
     refused(&args, "--resume s.png.checkpoint");
-    // --resume takes no other flag but --threads.
+    // --resume takes no flag that changes the image.
     // (Given at its default value, too: it is still a contradiction.)
     for flag in [
         &["--spp", "3"][..],
         &["--no-checkpoint"],
-        &["-o", "t.png"],
         &["--seed", "0"],
-        &["--scene", "week09"],
+        &["--checkpoint", "c"],
     ] {
         let mut a = vec!["render", "--resume", "s.png.checkpoint"];
         a.extend(flag);
-        refused(&a, "give it alone (or with --threads)");
+        refused(&a, "give it alone, or with what never changes the image");
     }
+    // A scene may be named again (a moved file), but it must be the
+    // checkpoint's.
+    refused(
+        &[
+            "render",
+            "--resume",
+            "s.png.checkpoint",
+            "--scene",
+            "week09",
+        ],
+        "scene is `s` there, `week09` now",
+    );
     // Not a checkpoint.
     refused(&["render", "--resume", "s.toml"], "not a Strata checkpoint");
     // The checkpoint as an output.
@@ -336,8 +349,8 @@ fn checkpoints_are_refused_when_they_do_not_fit() {
     std::fs::write(&scene, toml.replace("0.5, 0.5, 0.5", "0.5, 0.5, 0.6")).unwrap();
     refused(&["render", "--resume", "s.png.checkpoint"], "scene_hash is");
     std::fs::write(&scene, toml).unwrap();
-    // Resumed from another directory (the paths were kept absolute), on
-    // one thread.
+    // Resumed from another directory (paths are the checkpoint's
+    // directory's), on two threads.
     let elsewhere = tempfile::tempdir().unwrap();
     let path = d.join("s.png.checkpoint");
     let out = strata(
@@ -423,4 +436,273 @@ fn a_resume_keeps_the_interrupted_runs_thread_count_unless_told() {
     assert_eq!(strata(d, &args, Some("after:1")).status.signal(), Some(6));
     let out = ok(d, &["render", "--resume", "c.png.checkpoint"]);
     assert!(out.contains("on 1 threads"), "{out}");
+}
+
+/// Writes a checkpoint's header checksum again after an edit (as a tool
+/// that meant the edit would), so what lies behind it is reached.
+fn reseal_header(b: &mut Vec<u8>) {
+    let end = b.windows(2).position(|w| w == b"\n\n").unwrap();
+    let line = b[..end].iter().rposition(|&c| c == b'\n').unwrap() + 1;
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for &c in &b[..line] {
+        h ^= c as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    let tail = b[end..].to_vec();
+    b.truncate(line);
+    b.extend_from_slice(format!("head_checksum={h:016x}").as_bytes());
+    b.extend_from_slice(&tail);
+}
+
+/// The faults a damaged checkpoint once caused, each now refused with a
+/// message and the directory left as it was: a window edited to be
+/// empty (once an unbounded allocation), a tile of 0 (once a panic),
+/// 65535 threads (once started), a flipped byte in the output's name
+/// (once a file of another name) or in a built-in scene's hash (once
+/// blamed on a changed scene file), the old format.
+#[test]
+fn damaged_checkpoints_are_refused_as_damage() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "render",
+        "--scene",
+        "cover",
+        "--width",
+        "96",
+        "--spp",
+        "1",
+        "--tile",
+        "16",
+        "--pixel-bounds",
+        "0,96,10,30",
+        "-o",
+        "out.png",
+    ];
+    assert_eq!(strata(d, &args, Some("after:2")).status.signal(), Some(6));
+    let path = d.join("out.png.checkpoint");
+    let good = bytes(&path);
+    let text = String::from_utf8_lossy(&good).into_owned();
+    let edit = |from: &str, to: &str, reseal: bool| -> String {
+        let at = text
+            .find(from)
+            .unwrap_or_else(|| panic!("{from} in the header"));
+        let mut b = good.clone();
+        b.splice(at..at + from.len(), to.bytes());
+        if reseal {
+            // The records carry the old header's checksum: gone with it.
+            let end = b.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+            b.truncate(end);
+            reseal_header(&mut b);
+        }
+        std::fs::write(&path, &b).unwrap();
+        let out = strata(d, &["render", "--resume", "out.png.checkpoint"], None);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(1), "{from} -> {to}: {err}");
+        assert_eq!(names(d), ["out.png.checkpoint"], "{from} -> {to}");
+        err
+    };
+    for (from, to) in [
+        ("0,96,10,30", "0,96,90,30"),
+        ("\"tile\":16", "\"tile\":0"),
+        ("\"threads\":2", "\"threads\":65535"),
+        ("\"out.png\"", "\"nut.png\""),
+        ("scene_hash=d", "scene_hash=e"),
+    ] {
+        let e = edit(from, to, false);
+        assert!(e.contains("header is damaged"), "{from} -> {to}: {e}");
+    }
+    // Behind the checksum, the one check of every setting.
+    for (from, to, want) in [
+        (
+            "[0,96,10,30]",
+            "[0,96,90,30]",
+            "--pixel-bounds 0,96,90,30 is empty",
+        ),
+        ("\"tile\":16", "\"tile\":0", "--tile 0 is not in 1..=4096"),
+        (
+            "\"threads\":2",
+            "\"threads\":65535",
+            "--threads 65535 is not in 1..=512",
+        ),
+        (
+            "\"threads\":2",
+            "\"threads\":600",
+            "--threads 600 is not in 1..=512",
+        ),
+        (
+            "scene_hash=d",
+            "scene_hash=e",
+            "this build's built-in scene differs",
+        ),
+    ] {
+        let e = edit(from, to, true);
+        assert!(e.contains(want), "{from} -> {to}: {e}");
+    }
+    // The format before header checksums.
+    let mut old = good.clone();
+    old[18] = b'1';
+    std::fs::write(&path, &old).unwrap();
+    let out = strata(d, &["render", "--resume", "out.png.checkpoint"], None);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("strata-checkpoint 1") && err.contains("strata-checkpoint 2"),
+        "{err}"
+    );
+    // Untouched, it resumes.
+    std::fs::write(&path, &good).unwrap();
+    ok(d, &["render", "--resume", "out.png.checkpoint"]);
+    assert_eq!(names(d), ["out.png"]);
+}
+
+/// A whole record whose pixels a film would refuse (a sample count of 0
+/// or 2^32 - 1, resealed), or one spliced in from another seed's
+/// checkpoint of the same frame: refused, not merged.
+#[test]
+fn checkpoint_records_are_checked_like_film_bodies() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let run = |seed: &str| {
+        let args = [
+            "render", "--scene", "cover", "--width", "32", "--spp", "2", "--tile", "8", "--seed",
+            seed, "-o", "c.png",
+        ];
+        assert_eq!(strata(d, &args, Some("after:2")).status.signal(), Some(6));
+        let b = bytes(&d.join("c.png.checkpoint"));
+        std::fs::remove_file(d.join("c.png.checkpoint")).unwrap();
+        b
+    };
+    let other = run("1");
+    let good = run("0");
+    let head = good.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let fnv = |b: &[u8]| {
+        let mut h = 0xcbf2_9ce4_8422_2325u64;
+        for &c in b {
+            h ^= c as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        h
+    };
+    // The first record: 8 × 8 pixels.
+    let len = 52 + 64 * 64;
+    let resume = |b: &[u8]| {
+        std::fs::write(d.join("c.png.checkpoint"), b).unwrap();
+        let out = strata(d, &["render", "--resume", "c.png.checkpoint"], None);
+        assert_eq!(names(d), ["c.png.checkpoint"]);
+        assert_eq!(out.status.code(), Some(1));
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    for count in [0u32, u32::MAX] {
+        let mut b = good.clone();
+        // Pixel 5's sample count, then the record's checksum.
+        let at = head + 44 + 5 * 64 + 32;
+        b[at..at + 4].copy_from_slice(&count.to_le_bytes());
+        let sum = fnv(&b[head..head + len - 8]);
+        b[head + len - 8..head + len].copy_from_slice(&sum.to_le_bytes());
+        let e = resume(&b);
+        assert!(
+            e.contains("is damaged") && e.contains(&format!("holds {count} samples")),
+            "{e}"
+        );
+    }
+    let mut b = good.clone();
+    b.splice(head..head + len, other[head..head + len].iter().copied());
+    let e = resume(&b);
+    assert!(e.contains("belongs to another render"), "{e}");
+}
+
+/// A job directory moved elsewhere resumes where it now is (paths below
+/// the checkpoint are kept relative to it), and `-o` writes the image
+/// elsewhere: the output never changes the image.
+#[test]
+fn a_moved_job_resumes_and_takes_a_new_output() {
+    let root = tempfile::tempdir().unwrap();
+    let job = root.path().join("job");
+    std::fs::create_dir(&job).unwrap();
+    std::fs::write(job.join("s.toml"), SCENE).unwrap();
+    let args = [
+        "render", "--scene", "s.toml", "--width", "32", "--tile", "8", "-o", "out.png",
+    ];
+    assert_eq!(
+        strata(&job, &args, Some("after:2")).status.signal(),
+        Some(6)
+    );
+    let moved = root.path().join("moved");
+    std::fs::rename(&job, &moved).unwrap();
+    let out = ok(&moved, &["render", "--resume", "out.png.checkpoint"]);
+    assert_eq!(resumed_counts(&out).0, 2, "{out}");
+    assert_eq!(names(&moved), ["out.png", "s.toml"]);
+    let mut one = args[..7].to_vec();
+    one.extend(["--no-checkpoint", "-o", "one.png"]);
+    ok(&moved, &one[..]);
+    assert!(bytes(&moved.join("out.png")) == bytes(&moved.join("one.png")));
+    // Again, resumed into another name and directory.
+    std::fs::remove_file(moved.join("out.png")).unwrap();
+    assert_eq!(
+        strata(&moved, &args, Some("after:3")).status.signal(),
+        Some(6)
+    );
+    std::fs::create_dir(moved.join("sub")).unwrap();
+    ok(
+        &moved,
+        &[
+            "render",
+            "--resume",
+            "out.png.checkpoint",
+            "-o",
+            "sub/new.png",
+        ],
+    );
+    assert!(bytes(&moved.join("sub/new.png")) == bytes(&moved.join("one.png")));
+    assert!(!moved.join("out.png.checkpoint").exists());
+}
+
+/// A checkpoint that cannot grow (here a file-size limit, as a full disk
+/// would; the checkpoint is 64 bytes a pixel, the PNG far less) costs the
+/// render nothing but the checkpoint: a warning, then the same image.
+#[test]
+fn a_checkpoint_that_cannot_be_written_costs_only_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "render",
+        "--scene",
+        "cover",
+        "--width",
+        "200",
+        "--spp",
+        "2",
+        "--threads",
+        "1",
+    ];
+    let mut one = args.to_vec();
+    one.extend(["--no-checkpoint", "-o", "one.png"]);
+    ok(d, &one);
+    let png = bytes(&d.join("one.png")).len() as u64;
+    // Room for the PNG and one tile's record (32 × 32 × 64 bytes), not the
+    // checkpoint of 200 × 112 pixels; blocks of 512 bytes. A process over
+    // the limit is sent SIGXFSZ unless it ignores it, as one whose disk
+    // is full is not.
+    let blocks = (png.max(70_000) + 8 * 1024) / 512;
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "trap '' XFSZ; ulimit -f {blocks}; exec \"$0\" \"$@\""
+        ))
+        .arg(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .args(["-o", "out.png"])
+        .current_dir(d)
+        .env_remove(HOOK)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: cannot append to the checkpoint `out.png.checkpoint`")
+            && err.contains("rendering on without it"),
+        "{err}"
+    );
+    assert_eq!(names(d), ["one.png", "out.png"]);
+    assert!(bytes(&d.join("out.png")) == bytes(&d.join("one.png")));
 }

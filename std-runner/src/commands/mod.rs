@@ -130,6 +130,9 @@ pub(crate) fn check_pixels(width: u32, height: u32, panels: usize) -> Result<()>
 /// the flag.
 pub(crate) fn window_of(bounds: [u32; 4], width: u32, height: u32) -> Result<Tile> {
     let [x0, x1, y0, y1] = bounds;
+    if x0 >= x1 || y0 >= y1 {
+        bail!("--pixel-bounds {x0},{x1},{y0},{y1} is empty: need x0 < x1 and y0 < y1");
+    }
     if x1 > width || y1 > height {
         bail!("--pixel-bounds {x0},{x1},{y0},{y1} reaches outside the {width}x{height} image");
     }

@@ -27,27 +27,21 @@ use crate::scenes::built_in;
 /// the report; or, with `--resume`, the rest of a checkpointed render.
 pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(path) = &args.resume {
-        // Any flag but --threads would contradict the checkpoint's, even
-        // one given at its default value.
+        // A flag that changes the image would contradict the checkpoint's,
+        // even one given at its default value.
         if let Some(flag) = args
             .given
             .iter()
-            .find(|g| !["resume", "threads"].contains(&g.as_str()))
+            .find(|g| g.as_str() != "resume" && !RESUME_FLAGS.contains(&g.as_str()))
         {
             bail!(
-                "--resume takes its flags from the checkpoint, not --{}: give it alone (or with \
-                 --threads)",
+                "--resume takes its flags from the checkpoint, not --{}: give it alone, or with \
+                 what never changes the image (--threads, -o, --stats, --spp-map, --scene for a \
+                 scene file that moved)",
                 flag.replace('_', "-")
             );
         }
-        // The thread count never changes the image: --threads if given,
-        // else the interrupted run's.
-        let threads = args
-            .given
-            .iter()
-            .any(|g| g == "threads")
-            .then_some(args.threads);
-        return resume(path, threads);
+        return resume(path, args);
     }
     let scene = resolve_scene(&args.scene)?;
     let plan = args.plan(&scene)?;
@@ -93,21 +87,62 @@ fn warn_bright_lights(scene: &SceneData) {
     }
 }
 
-/// `strata render --resume FILE`: the checkpoint's flags planned again
-/// (so every check runs again), its tiles kept, the rest rendered.
-fn resume(path: &Path, threads: Option<u16>) -> Result<()> {
+/// The flags `--resume` takes beside the checkpoint's (clap ids): none
+/// changes the image (the scene file is checked against the saved
+/// scene's name and content hash).
+const RESUME_FLAGS: [&str; 5] = ["threads", "output", "stats", "spp_map", "scene"];
+
+/// `strata render --resume FILE`: the checkpoint's flags (with those of
+/// [`RESUME_FLAGS`] given now in their place) planned again, so every
+/// check runs again; its tiles kept, the rest rendered.
+fn resume(path: &Path, now: &RenderArgs) -> Result<()> {
     let saved = checkpoint::read(path)?;
-    let scene = resolve_scene(&saved.args.scene)
-        .with_context(|| format!("the scene of the checkpoint `{}`", path.display()))?;
-    let mut plan = saved.args.plan(&scene)?;
-    warn_bright_lights(&scene);
-    saved
-        .check(&plan.job)
-        .with_context(|| format!("checkpoint `{}`", path.display()))?;
-    plan.checkpoint = Some(path.to_path_buf());
-    if let Some(t) = threads {
-        plan.job.threads = t as usize;
+    let mut args = saved.args.clone();
+    let given = |id: &str| now.given.iter().any(|g| g == id);
+    if given("threads") {
+        args.threads = now.threads;
     }
+    if given("output") {
+        args.output.clone_from(&now.output);
+    }
+    if given("stats") {
+        args.stats.clone_from(&now.stats);
+    }
+    if given("spp_map") {
+        args.spp_map.clone_from(&now.spp_map);
+    }
+    if given("scene") {
+        args.scene.clone_from(&now.scene);
+    }
+    // The checkpoint is this file, wherever it is now.
+    args.checkpoint = Some(path.to_path_buf());
+    args.no_checkpoint = false;
+    let name = || format!("checkpoint `{}`", path.display());
+    // Files of a job that was moved without them: say how to go on.
+    for (file, flag) in [
+        (&args.output, "-o"),
+        (&args.stats, "--stats"),
+        (&args.spp_map, "--spp-map"),
+    ] {
+        if let Some(dir) = file.as_deref().and_then(Path::parent)
+            && !dir.as_os_str().is_empty()
+            && !dir.is_dir()
+        {
+            bail!(
+                "{}: its {flag} `{}` is in a directory that is gone (moved?): give {flag} with \
+                 the file's new name",
+                name(),
+                file.as_deref().unwrap_or(dir).display()
+            );
+        }
+    }
+    let scene = resolve_scene(&args.scene)
+        .with_context(|| format!("{}: its scene (moved? give --scene FILE)", name()))?;
+    let plan = args
+        .plan(&scene)
+        .with_context(|| format!("{}: its settings", name()))?;
+    warn_bright_lights(&scene);
+    saved.check(&plan.job).with_context(name)?;
     let checkpoint = Checkpoint::reopen(path, &saved)?;
     if saved.dropped_bytes > 0 {
         say(&format!(
@@ -128,6 +163,10 @@ fn resume(path: &Path, threads: Option<u16>) -> Result<()> {
 /// (the checkpoint's records are whole or dropped on resume).
 static WRITING: AtomicBool = AtomicBool::new(false);
 
+/// The checkpoint of the render in progress, for the message of a second
+/// signal (the handler is process-wide).
+static CHECKPOINT_PATH: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+
 /// Renders the tiles `done` lacks, appending each to `checkpoint`, then
 /// writes the files and removes the checkpoint.
 fn finish(
@@ -136,13 +175,24 @@ fn finish(
     done: Vec<TileFilm>,
 ) -> Result<()> {
     let job = &plan.job;
-    if checkpoint.is_some() {
+    if let Some(c) = &checkpoint {
+        *CHECKPOINT_PATH.lock().unwrap_or_else(|e| e.into_inner()) = Some(c.path().to_path_buf());
         // Only one handler per process; a second render in one process
         // (tests) keeps the first, which sets the same flag.
         let _ = ctrlc::set_handler(|| {
             if WRITING.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
                 eprintln!("\nwriting the output: a moment (again to quit at once)");
             } else if STOP.swap(true, Ordering::SeqCst) {
+                // Records are whole or dropped on resume: the file is good.
+                if let Ok(guard) = CHECKPOINT_PATH.try_lock()
+                    && let Some(p) = guard.as_ref()
+                {
+                    eprintln!(
+                        "quitting: the tiles finished so far are kept in `{0}`; `strata render \
+                         --resume {0}` renders the rest",
+                        p.display()
+                    );
+                }
                 std::process::exit(130);
             } else {
                 eprintln!("\nstopping: finishing the tiles in flight (again to quit at once)");
@@ -151,10 +201,27 @@ fn finish(
     }
     let resumed = done.len();
     let appended = AtomicUsize::new(0);
+    let rendered_now = AtomicUsize::new(0);
+    // A checkpoint that cannot be written (a full disk: it is 64 bytes a
+    // pixel) costs only the safety it gives: the render goes on without
+    // it, and the tiles it holds whole still resume.
+    let failed = AtomicBool::new(false);
     let on_tile = |t: &TileFilm| -> Result<()> {
-        if let Some(c) = &checkpoint {
-            c.append(t)?;
-            appended.fetch_add(1, Ordering::Relaxed);
+        rendered_now.fetch_add(1, Ordering::Relaxed);
+        if let Some(c) = &checkpoint
+            && !failed.load(Ordering::Relaxed)
+        {
+            match c.append(t) {
+                Ok(()) => {
+                    appended.fetch_add(1, Ordering::Relaxed);
+                }
+                Err(e) if !failed.swap(true, Ordering::SeqCst) => eprintln!(
+                    "warning: {e:#}; rendering on without it (an interrupted render resumes \
+                     from the {} it holds whole)",
+                    tiles_text(resumed + appended.load(Ordering::Relaxed))
+                ),
+                Err(_) => {}
+            }
         }
         Ok(())
     };
@@ -177,8 +244,10 @@ fn finish(
             Some(c) if resumed + appended.load(Ordering::Relaxed) > 0 || !c.is_new() => {
                 c.sync().ok();
                 e.context(format!(
-                    "the finished tiles are kept in `{0}`: `strata render --resume {0}` goes on",
-                    c.path().display()
+                    "{1} finished are kept in `{0}`: once the cause is mended (room on the disk, \
+                     a directory), `strata render --resume {0}` goes on",
+                    c.path().display(),
+                    tiles_text(resumed + appended.load(Ordering::Relaxed))
                 ))
             }
             Some(c) => {
@@ -195,13 +264,16 @@ fn finish(
             WRITING.store(true, Ordering::SeqCst);
             r
         }
-        Outcome::Stopped { done, total } => {
+        Outcome::Stopped { total, .. } => {
             let Some(c) = &checkpoint else {
                 unreachable!("only a checkpointed render installs the stop handler")
             };
-            c.sync()?;
+            c.sync().ok();
+            // What the file holds (tiles rendered after a failed append
+            // are not in it).
+            let kept = resumed + appended.load(Ordering::Relaxed);
             return Err(Interrupted(format!(
-                "interrupted: {done} of {total} tiles are kept in `{0}`; \
+                "interrupted: {kept} of {total} tiles are kept in `{0}`; \
                  `strata render --resume {0}` renders the rest",
                 c.path().display()
             ))
@@ -245,15 +317,27 @@ fn finish(
             .with_context(|| format!("cannot remove the checkpoint `{}`", c.path().display()))?;
     }
     say(&plan.summary(&film));
+    let now = rendered_now.load(Ordering::Relaxed);
     if resumed > 0 {
         say(&format!(
-            "resumed: {resumed} of {} tiles from the checkpoint, {} rendered now",
-            resumed + appended.load(Ordering::Relaxed),
-            appended.load(Ordering::Relaxed)
+            "resumed: {resumed} of {} tiles from the checkpoint, {now} rendered now",
+            resumed + now,
         ));
     }
-    say(&speed_line(job, wall, run_stats, dropped));
+    if now == 0 {
+        say("nothing was left to render: every tile came from the checkpoint");
+    } else {
+        say(&speed_line(job, wall, run_stats, dropped));
+    }
     Ok(())
+}
+
+/// `1 tile`, `N tiles`.
+fn tiles_text(n: usize) -> String {
+    match n {
+        1 => "1 tile".to_string(),
+        n => format!("{n} tiles"),
+    }
 }
 
 /// A render stopped by a signal, its tiles checkpointed: `strata` exits
@@ -286,6 +370,7 @@ impl RenderArgs {
     /// user meets: the size, the sample counts, the window, the filter,
     /// the files.
     fn plan<'a>(&self, scene: &'a SceneData) -> Result<RenderPlan<'a>> {
+        self.validate()?;
         let d = scene.defaults;
         let width = self.width.unwrap_or(d.width);
         let height = match self.height {

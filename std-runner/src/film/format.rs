@@ -485,43 +485,60 @@ impl<'h> CountCheck<'h> {
 
     /// Checks pixel `i` of the extent (row-major).
     pub fn pixel(&self, i: usize, p: &PixelSum) -> Result<()> {
-        let (key, samples, w) = (&self.head.key, &self.head.samples, self.head.window);
-        let n = samples.end - samples.start;
+        let (key, w) = (&self.head.key, self.head.window);
         let extent = self.extent;
         let (x, y) = (
             extent.x0 + (i % extent.width as usize) as u32,
             extent.y0 + (i / extent.width as usize) as u32,
         );
         let owned = (w.x0..w.x0 + w.width).contains(&x) && (w.y0..w.y0 + w.height).contains(&y);
-        let possible = match key.adaptive {
-            None => p.taken() == n,
-            Some(a) => a.can_take(p.taken()),
-        };
-        if owned && !possible {
-            let want = match key.adaptive {
-                None => n.to_string(),
-                Some(a) => format!(
-                    "a multiple of {} from {} to {}",
-                    a.block(),
-                    a.min(),
-                    2 * a.block() + a.rest_range().end()
-                ),
-            };
-            bail!(
-                "pixel ({x}, {y}) holds {} samples where the range {}..{} has {want}",
-                p.taken(),
-                samples.start,
-                samples.end
-            );
+        match count_problem(p, owned, &self.head.samples, key.adaptive) {
+            Some(why) => bail!("pixel ({x}, {y}) {why}"),
+            None => Ok(()),
         }
-        if !owned && p.taken() != 0 {
-            bail!(
-                "pixel ({x}, {y}) of the border holds {} samples; a border holds only sums",
-                p.taken()
-            );
-        }
-        Ok(())
     }
+}
+
+/// What is wrong with a pixel's sample count, if anything: a pixel a part
+/// owns took every sample of its range (an adaptive one, a count its
+/// settings allow: [`Adaptive::can_take`](strata::render::Adaptive::can_take)),
+/// and a pixel of its border none (it holds only sums). The films' check
+/// and the checkpoints' records' check.
+pub(crate) fn count_problem(
+    p: &PixelSum,
+    owned: bool,
+    samples: &std::ops::Range<u32>,
+    adaptive: Option<strata::render::Adaptive>,
+) -> Option<String> {
+    let n = samples.end.saturating_sub(samples.start);
+    if !owned {
+        return (p.taken() != 0).then(|| {
+            format!(
+                "of the border holds {} samples; a border holds only sums",
+                p.taken()
+            )
+        });
+    }
+    let (possible, want) = match adaptive {
+        None => (p.taken() == n, n.to_string()),
+        Some(a) => (
+            a.can_take(p.taken()),
+            format!(
+                "a multiple of {} from {} to {}",
+                a.block(),
+                a.min(),
+                2 * a.block() + a.rest_range().end()
+            ),
+        ),
+    };
+    (!possible).then(|| {
+        format!(
+            "holds {} samples where the range {}..{} has {want}",
+            p.taken(),
+            samples.start,
+            samples.end
+        )
+    })
 }
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {

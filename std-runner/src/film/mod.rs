@@ -68,7 +68,7 @@ use crate::image_io::{ImageFormat, Transfer, image_bytes};
 
 pub use format::{BYTES_PER_PIXEL, MAGIC};
 pub use format::{FilmFile, FilmHead};
-pub(crate) use format::{decode_pixels, encode_pixels};
+pub(crate) use format::{count_problem, decode_pixels, encode_pixels};
 pub use key::{
     KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_samples, samples_text, version,
     window_text,

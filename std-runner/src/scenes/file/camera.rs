@@ -8,7 +8,7 @@ use serde::Deserialize;
 use strata::render::{Camera, CameraDesc, CameraError};
 use toml::Spanned;
 
-use super::{SceneFileError, Source};
+use super::{SceneFileError, Source, Triple};
 use crate::limits::{MAX_DEPTH, MAX_SPP, MAX_WIDTH};
 use crate::scenes::Defaults;
 
@@ -16,9 +16,9 @@ use crate::scenes::Defaults;
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FileCamera {
-    look_from: Spanned<[f32; 3]>,
-    look_at: Spanned<[f32; 3]>,
-    up: Option<Spanned<[f32; 3]>>,
+    look_from: Spanned<Triple>,
+    look_at: Spanned<Triple>,
+    up: Option<Spanned<Triple>>,
     vfov: Spanned<f32>,
     defocus_angle: Option<Spanned<f32>>,
     focus_dist: Option<Spanned<f32>>,

@@ -66,19 +66,38 @@ use toml::Spanned;
 
 use crate::scenes::SceneData;
 
-/// A scene file that could not be used: where and why.
-#[derive(Debug, thiserror::Error, PartialEq)]
-#[error("{file}:{line}: {field}: {message}")]
+/// A scene file that could not be used: where and why. Shown as
+/// `file:line: field: message`, or `file: message` for the file as a
+/// whole (line 0: it cannot be read).
+#[derive(Debug, PartialEq)]
 pub struct SceneFileError {
     /// The file.
     pub file: PathBuf,
-    /// 1-based line of the offending value (or its table).
+    /// 1-based line of the offending value (or its table); 0 for the
+    /// file as a whole.
     pub line: usize,
     /// The field, as a TOML path (`spheres[2].radius`).
     pub field: String,
     /// What is wrong.
     pub message: String,
 }
+
+impl std::fmt::Display for SceneFileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            0 => write!(f, "{}: {}", self.file.display(), self.message),
+            n => write!(
+                f,
+                "{}:{n}: {}: {}",
+                self.file.display(),
+                self.field,
+                self.message
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SceneFileError {}
 
 /// The whole file as deserialized, each section's types next to the code
 /// that checks them.
@@ -100,7 +119,7 @@ pub fn load(path: &Path) -> Result<SceneData, SceneFileError> {
         file: path.to_path_buf(),
         line: 0,
         field: "(file)".into(),
-        message: format!("cannot read: {e}"),
+        message: format!("cannot read the scene file: {e}"),
     })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         // The line of the first byte that is not UTF-8.
@@ -141,6 +160,24 @@ pub fn parse(path: &Path, text: &str) -> Result<SceneData, SceneFileError> {
         background,
         defaults,
     })
+}
+
+/// A point or direction as written: exactly three numbers. (serde reads
+/// a `[f32; 3]` from the first three of a longer array and drops the
+/// rest without a word, so a fourth component must be refused here.)
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Triple(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Triple {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f32>::deserialize(d)?;
+        <[f32; 3]>::try_from(v.as_slice()).map(Triple).map_err(|_| {
+            serde::de::Error::custom(format!(
+                "{} numbers where a point or direction takes three, [x, y, z]",
+                v.len()
+            ))
+        })
+    }
 }
 
 /// The file being parsed: its name and text, which every error points
@@ -200,8 +237,8 @@ impl Source<'_> {
     }
 
     /// A finite point or direction.
-    fn vec3(&self, s: &Spanned<[f32; 3]>, field: &str) -> Result<Vec3, SceneFileError> {
-        let v = Vec3::from(*s.get_ref());
+    fn vec3(&self, s: &Spanned<Triple>, field: &str) -> Result<Vec3, SceneFileError> {
+        let v = Vec3::from(s.get_ref().0);
         if v.is_finite() {
             Ok(v)
         } else {

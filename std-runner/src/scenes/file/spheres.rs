@@ -8,7 +8,7 @@ use strata::render::{Background, MAX_SAMPLE_VALUE};
 use strata::trace::{BVH_MAX_COORDINATE, SPHERE_MIN_RADIUS_RATIO, Sphere};
 use toml::Spanned;
 
-use super::{SceneFileError, Source};
+use super::{SceneFileError, Source, Triple};
 
 /// `background` as written. The name is part of serde's message when
 /// neither form matches, which `Source::deserialize` looks for.
@@ -23,7 +23,7 @@ pub(super) enum FileBackground {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FileSphere {
-    center: Spanned<[f32; 3]>,
+    center: Spanned<Triple>,
     radius: Spanned<f32>,
     material: Spanned<String>,
 }
