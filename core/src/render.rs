@@ -49,4 +49,4 @@ pub use tile::{
 /// locks in `std-runner/tests/output_locks.rs` fail then, and say to
 /// raise it), never for new outputs. Film files and caches of rendered
 /// results (e.g. `strata converge`'s references) key on it.
-pub const OUTPUT_REVISION: u32 = 13;
+pub const OUTPUT_REVISION: u32 = 14;

@@ -10,13 +10,11 @@ use anyhow::{Context, Result, bail};
 use strata::render::PixelSum;
 
 use super::Film;
-use super::key::{
-    KEY_FIELDS, RenderKey, parse_adaptive, parse_samples, parse_window, samples_text, window_text,
-};
+use super::key::{KEY_FIELDS, RenderKey, parse_samples, parse_window, samples_text, window_text};
 use crate::limits::{MAX_PIXELS, MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
-pub const MAGIC: &str = "strata-film 4";
+pub const MAGIC: &str = "strata-film 5";
 
 /// Bytes per pixel in a film's body.
 pub const BYTES_PER_PIXEL: usize = 64;
@@ -24,6 +22,9 @@ pub const BYTES_PER_PIXEL: usize = 64;
 /// Longest film header read: the key's values are short (a scene file's
 /// name is the longest), so a longer one is not a film.
 pub const MAX_HEADER_BYTES: usize = 64 * 1024;
+
+/// The header's last line: FNV-1a 64 of every header byte before it.
+const HEAD_CHECKSUM: &str = "head_checksum=";
 
 /// Pixels read at once while a film body is streamed (1 MiB).
 const CHUNK_PIXELS: usize = 16 * 1024;
@@ -70,6 +71,8 @@ impl FilmHead {
             writeln!(head, "border={}", self.border).unwrap();
         }
         writeln!(head, "checksum={:016x}", self.checksum).unwrap();
+        let own = crate::hash::fnv1a(head.as_bytes());
+        writeln!(head, "{HEAD_CHECKSUM}{own:016x}").unwrap();
         writeln!(head).unwrap();
         head
     }
@@ -274,13 +277,32 @@ fn check_body_len(head: &FilmHead, len: u64) -> Result<()> {
     Ok(())
 }
 
-/// Parses and checks a header (the bytes up to and with its empty line).
+/// Parses and checks a header (the bytes up to and with its empty line):
+/// its checksum first, so no damaged byte is used; then every field as
+/// its type ([`RenderKey::parse`]), and the window, samples and border
+/// against the render.
 fn parse_head(bytes: &[u8]) -> Result<FilmHead> {
     // The magic line and its newline, then lines, then the empty line
     // (whose newline is the last byte; the last line's is the one before).
     let first = (MAGIC.len() + 1).min(bytes.len() - 1);
-    let head =
-        std::str::from_utf8(&bytes[first..bytes.len() - 1]).context("header is not UTF-8")?;
+    // The last line (before the empty one) starts after the newline
+    // before it.
+    let end = bytes.len().saturating_sub(2);
+    let last = bytes[..end]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1)
+        .max(first);
+    let sealed = bytes
+        .get(last..end)
+        .and_then(|l| std::str::from_utf8(l).ok())
+        .and_then(|l| l.strip_prefix(HEAD_CHECKSUM))
+        .and_then(|h| u64::from_str_radix(h, 16).ok())
+        .is_some_and(|sum| sum == crate::hash::fnv1a(&bytes[..last]));
+    if !sealed {
+        bail!("corrupt: the header's checksum does not match (its header is damaged)");
+    }
+    let head = std::str::from_utf8(&bytes[first..last]).context("header is not UTF-8")?;
     let mut map: Vec<(&str, &str)> = Vec::new();
     for line in head.lines() {
         let (k, v) = line
@@ -301,15 +323,17 @@ fn parse_head(bytes: &[u8]) -> Result<FilmHead> {
         let v = get(name).unwrap_or_default();
         format!("bad `{name}`: `{}`", clip(v))
     };
-    let fields: Vec<(&'static str, String)> = KEY_FIELDS
-        .iter()
-        .map(|&k| get(k).map(|v| (k, v.to_string())))
-        .collect::<Result<_>>()?;
-    let (width, height) = get("size")?
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .with_context(|| bad("size"))?;
-    let spp: u32 = get("spp")?.parse().with_context(|| bad("spp"))?;
+    let known = |k: &str| {
+        KEY_FIELDS.contains(&k) || ["window", "samples", "border", "checksum"].contains(&k)
+    };
+    if let Some((k, _)) = map.iter().find(|(k, _)| !known(k)) {
+        bail!(
+            "header has a field this build does not write: `{}`",
+            clip(k)
+        );
+    }
+    let key = RenderKey::parse(get)?;
+    let (width, height, spp) = (key.width(), key.height(), key.spp());
     let window = parse_window(get("window")?).with_context(|| bad("window"))?;
     let samples = parse_samples(get("samples")?).with_context(|| bad("samples"))?;
     if width == 0 || height == 0 || spp == 0 {
@@ -339,7 +363,7 @@ fn parse_head(bytes: &[u8]) -> Result<FilmHead> {
             samples.end
         );
     }
-    let adaptive = parse_adaptive(get("adaptive")?).with_context(|| bad("adaptive"))?;
+    let adaptive = key.adaptive();
     if let Some(a) = adaptive
         && (a.max() != spp || samples != (0..spp))
     {
@@ -358,13 +382,6 @@ fn parse_head(bytes: &[u8]) -> Result<FilmHead> {
             .ok()
             .filter(|&b| b > 0)
             .with_context(|| bad("border"))?,
-    };
-    let key = RenderKey {
-        fields,
-        width,
-        height,
-        spp,
-        adaptive,
     };
     check_border(&key, border)?;
     let checksum = u64::from_str_radix(get("checksum")?, 16).with_context(|| bad("checksum"))?;

@@ -4,6 +4,7 @@
 
 use std::ops::Range;
 
+use anyhow::{Context, Result, bail};
 use strata::render::Tile;
 
 use crate::render::Job;
@@ -48,15 +49,14 @@ impl RenderKey {
             version(),
             job.scene.name.clone(),
             format!("{:016x}", job.scene.content_hash()),
-            format!(
-                "from {:?} at {:?} up {:?} vfov {:?} defocus {:?} focus {:?}",
-                c.look_from.to_array(),
-                c.look_at.to_array(),
-                c.up.to_array(),
-                c.vfov_deg,
-                c.defocus_angle_deg,
-                c.focus_dist
-            ),
+            camera_text(&CameraNumbers {
+                look_from: c.look_from.to_array(),
+                look_at: c.look_at.to_array(),
+                up: c.up.to_array(),
+                vfov: c.vfov_deg,
+                defocus: c.defocus_angle_deg,
+                focus: c.focus_dist,
+            }),
             format!("{}x{}", job.width, job.height),
             job.spp.to_string(),
             job.sampler.name().to_string(),
@@ -66,11 +66,7 @@ impl RenderKey {
             // The BVH is not in the key: it never changes a pixel.
             filter_text(&job.filter),
             adaptive_text(job.adaptive),
-            match job.texture_filter {
-                strata::render::TextureFilter::None => "none",
-                strata::render::TextureFilter::Box => "box",
-            }
-            .to_string(),
+            texture_filter_text(job.texture_filter).to_string(),
         ];
         RenderKey {
             // A value is one header line: control characters (a scene file
@@ -138,6 +134,50 @@ impl RenderKey {
         })
     }
 
+    /// The key of a film header's fields (`get(name)` gives each field's
+    /// text), every one parsed as its type and written back the same
+    /// (so `seed=05`, `seed=hello` or `texture_filter=banana` are
+    /// refused), and made by this build (`version` is [`version()`]).
+    /// The error names the field.
+    pub(super) fn parse<'v>(get: impl Fn(&str) -> Result<&'v str>) -> Result<RenderKey> {
+        let mut fields = Vec::with_capacity(KEY_FIELDS.len());
+        for name in KEY_FIELDS {
+            let v = get(name)?;
+            if canonical(name, v) != Some(true) {
+                bail!("bad `{name}`: `{}`", super::format::clip(v));
+            }
+            fields.push((name, v.to_string()));
+        }
+        let text = |name: &str| {
+            fields
+                .iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| v.as_str())
+        };
+        let ours = version();
+        if text("version") != Some(ours.as_str()) {
+            bail!(
+                "made by strata {}, and this is strata {ours}: parts merge only with the build \
+                 that made them (their pixels may differ)",
+                super::format::clip(text("version").unwrap_or_default())
+            );
+        }
+        let (width, height) = text("size").and_then(parse_size).context("bad `size`")?;
+        let spp: u32 = text("spp")
+            .and_then(|v| v.parse().ok())
+            .context("bad `spp`")?;
+        let adaptive = text("adaptive")
+            .and_then(parse_adaptive)
+            .context("bad `adaptive`")?;
+        Ok(RenderKey {
+            fields,
+            width,
+            height,
+            spp,
+            adaptive,
+        })
+    }
+
     /// The first field where `other` differs: (name, ours, theirs).
     #[must_use]
     pub fn first_difference<'a>(
@@ -149,6 +189,100 @@ impl RenderKey {
             .zip(&other.fields)
             .find(|(a, b)| a.1 != b.1)
             .map(|(a, b)| (a.0, a.1.as_str(), b.1.as_str()))
+    }
+}
+
+/// Whether `v` is a value field `name` of a [`RenderKey`] can hold, written
+/// as the key writes it; `None` for a name that is not a field.
+fn canonical(name: &str, v: &str) -> Option<bool> {
+    let same = |t: Option<String>| t.as_deref() == Some(v);
+    Some(match name {
+        // Its own field: checked against this build by the caller.
+        "version" => !v.is_empty() && !v.contains(char::is_control),
+        // A scene's name (a file's stem), control characters replaced.
+        "scene" => !v.is_empty() && !v.contains(char::is_control),
+        "scene_hash" => {
+            v.len() == 16
+                && v.bytes()
+                    .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+        }
+        "camera" => same(parse_camera(v).map(|c| camera_text(&c))),
+        "size" => same(parse_size(v).map(|(w, h)| format!("{w}x{h}"))),
+        "spp" | "max_depth" => same(v.parse::<u32>().ok().map(|n| n.to_string())),
+        "seed" => same(v.parse::<u64>().ok().map(|n| n.to_string())),
+        "sampler" => crate::render::SamplerKind::ALL
+            .iter()
+            .any(|s| s.name() == v),
+        "direct_lighting" => v == "true" || v == "false",
+        "filter" => same(parse_filter(v).map(|f| filter_text(&f))),
+        "adaptive" => same(parse_adaptive(v).map(adaptive_text)),
+        "texture_filter" => [
+            strata::render::TextureFilter::None,
+            strata::render::TextureFilter::Box,
+        ]
+        .into_iter()
+        .any(|t| texture_filter_text(t) == v),
+        _ => return None,
+    })
+}
+
+/// `WxH`.
+fn parse_size(v: &str) -> Option<(u32, u32)> {
+    let (w, h) = v.split_once('x')?;
+    Some((w.parse().ok()?, h.parse().ok()?))
+}
+
+/// The numbers of a camera as the key writes them.
+struct CameraNumbers {
+    look_from: [f32; 3],
+    look_at: [f32; 3],
+    up: [f32; 3],
+    vfov: f32,
+    defocus: f32,
+    focus: f32,
+}
+
+/// `from [x, y, z] at [x, y, z] up [x, y, z] vfov V defocus D focus F`,
+/// each number as Rust writes an `f32` (shortest text that reads back
+/// the same bits).
+fn camera_text(c: &CameraNumbers) -> String {
+    format!(
+        "from {:?} at {:?} up {:?} vfov {:?} defocus {:?} focus {:?}",
+        c.look_from, c.look_at, c.up, c.vfov, c.defocus, c.focus
+    )
+}
+
+/// Parses [`camera_text`].
+fn parse_camera(v: &str) -> Option<CameraNumbers> {
+    let triple = |s: &str| -> Option<[f32; 3]> {
+        let inner = s.strip_prefix('[')?.strip_suffix(']')?;
+        let n: Vec<f32> = inner
+            .split(", ")
+            .map(|t| t.parse().ok())
+            .collect::<Option<_>>()?;
+        n.try_into().ok()
+    };
+    let rest = v.strip_prefix("from ")?;
+    let (from, rest) = rest.split_once(" at ")?;
+    let (at, rest) = rest.split_once(" up ")?;
+    let (up, rest) = rest.split_once(" vfov ")?;
+    let (vfov, rest) = rest.split_once(" defocus ")?;
+    let (defocus, focus) = rest.split_once(" focus ")?;
+    Some(CameraNumbers {
+        look_from: triple(from)?,
+        look_at: triple(at)?,
+        up: triple(up)?,
+        vfov: vfov.parse().ok()?,
+        defocus: defocus.parse().ok()?,
+        focus: focus.parse().ok()?,
+    })
+}
+
+/// A texture filter as the key writes it.
+fn texture_filter_text(t: strata::render::TextureFilter) -> &'static str {
+    match t {
+        strata::render::TextureFilter::None => "none",
+        strata::render::TextureFilter::Box => "box",
     }
 }
 

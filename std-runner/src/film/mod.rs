@@ -21,17 +21,20 @@
 //! edge is complete once its neighbours' parts are merged. Films of
 //! filters that do not splat have no border.
 //!
-//! The format (version 4) is a text header and a binary body:
+//! The format (version 5) is a text header and a binary body:
 //!
 //! ```text
-//! strata-film 4
-//! version=0.1.0+r1
-//! scene=cover
-//! ...                      the RenderKey fields, then:
+//! strata-film 5
+//! version=0.1.0+r14        the build's: a merge takes parts of its own
+//! scene=cover              build only
+//! ...                      the RenderKey fields, each parsed as its type
+//!                          when read, then:
 //! window=x0,x1,y0,y1       pixels covered, half-open
 //! samples=A..B             sample indices covered, half-open
 //! border=N                 only for N > 0: the extent's border
 //! checksum=<16 hex digits> FNV-1a 64 of the body
+//! head_checksum=<16 hex>   FNV-1a 64 of every header byte before this
+//!                          line (checked before any of them is used)
 //!                          (an empty line ends the header)
 //! body: one record per extent pixel, row-major, 64 bytes each,
 //!       little-endian: weighted sums r, g, b and the filter-weight sum as

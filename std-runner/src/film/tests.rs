@@ -11,11 +11,22 @@ use super::{Film, KEY_FIELDS, RenderKey, filter_text, merge, merge_whole};
 
 fn film(width: u32, height: u32, window: Tile, samples: Range<u32>) -> Film {
     let job_key = |k: &str| match k {
+        "version" => super::version(),
+        "scene" => "test".to_string(),
+        "scene_hash" => "0123456789abcdef".to_string(),
+        "camera" => "from [0.0, 1.0, 2.0] at [0.0, 0.0, 0.0] up [0.0, 1.0, 0.0] vfov 40.0 \
+                     defocus 0.0 focus 2.236068"
+            .to_string(),
         "size" => format!("{width}x{height}"),
         "spp" => "8".to_string(),
+        "sampler" => "sobol".to_string(),
+        "seed" => "7".to_string(),
+        "max_depth" => "5".to_string(),
+        "direct_lighting" => "true".to_string(),
         "adaptive" => "off".to_string(),
         "filter" => "box r=0.5".to_string(),
-        _ => format!("{k}-value"),
+        "texture_filter" => "none".to_string(),
+        _ => unreachable!("{k} is not a key field"),
     };
     let n = samples.end - samples.start;
     Film {
@@ -60,19 +71,33 @@ fn refused(bytes: &[u8]) -> String {
     format!("{:#}", Film::from_bytes(bytes).unwrap_err())
 }
 
+/// The bytes with the header's checksum written again after an edit (as
+/// a tool that meant the edit would): what lies behind it is reached.
+fn reseal(bytes: &[u8]) -> Vec<u8> {
+    let end = bytes.windows(2).position(|w| w == b"\n\n").unwrap();
+    let last = bytes[..end].iter().rposition(|&b| b == b'\n').unwrap() + 1;
+    let mut out = bytes[..last].to_vec();
+    let sum = crate::hash::fnv1a(&out);
+    out.extend_from_slice(format!("head_checksum={sum:016x}").as_bytes());
+    out.extend_from_slice(&bytes[end..]);
+    out
+}
+
+/// The film's bytes with `from` replaced by `to` in the header, resealed.
+fn edited(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
+    let t = String::from_utf8_lossy(bytes).into_owned();
+    let (head, _) = t.split_once("\n\n").unwrap();
+    assert!(head.contains(from), "{from}");
+    let mut out = head.replacen(from, to, 1).into_bytes();
+    out.extend_from_slice(b"\n\n");
+    out.extend_from_slice(&bytes[head.len() + 2..]);
+    reseal(&out)
+}
+
 #[test]
 fn damaged_or_hostile_films_are_refused() {
     let good = film(7, 5, tile(2, 1, 3, 4), 2..5).to_bytes();
-    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
-    let edit = |from: &str, to: &str| {
-        let t = text(&good);
-        let (head, _) = t.split_once("\n\n").unwrap();
-        let body = &good[head.len() + 2..];
-        let mut out = head.replacen(from, to, 1).into_bytes();
-        out.extend_from_slice(b"\n\n");
-        out.extend_from_slice(body);
-        out
-    };
+    let edit = |from: &str, to: &str| edited(&good, from, to);
     // A huge size would make a merge allocate it.
     let e = refused(&edit("size=7x5", "size=4000000000x4000000000"));
     assert!(e.contains("beyond what strata renders"), "{e}");
@@ -87,23 +112,27 @@ fn damaged_or_hostile_films_are_refused() {
     );
     let e = refused(&edit("window=2,5,1,5", "window=5,2,1,5"));
     assert!(e.contains("bad `window`"), "{e}");
-    let e = refused(&edit("seed=seed-value\n", ""));
+    let e = refused(&edit("seed=7\n", ""));
     assert!(e.contains("no `seed`"), "{e}");
     let e = refused(&good[..good.len() - 1]);
     assert!(e.contains("truncated"), "{e}");
     let e = refused(&good[..40]);
     assert!(e.contains("truncated"), "{e}");
-    let e = refused(b"strata-film 4\n\nxyz");
+    let e = refused(&reseal(b"strata-film 5\nx\n\nxyz"));
     assert!(e.contains("no `version`"), "{e}");
-    let e = refused(&edit("seed=seed-value", "seed=seed-value\nseed=9"));
+    let e = refused(&edit("seed=7", "seed=7\nseed=9"));
     assert!(e.contains("repeats `seed`"), "{e}");
     for old in [
         &b"strata-film 1\n"[..],
         b"strata-film 2\n",
         b"strata-film 3\n",
+        b"strata-film 4\nversion=0.1.0+r13\n\n",
     ] {
         let e = refused(old);
-        assert!(e.contains("another format version"), "{e}");
+        assert!(
+            e.contains("another format version") && e.contains("this build reads `strata-film 5`"),
+            "{e}"
+        );
     }
     let e = refused(b"");
     assert!(e.contains("not a Strata film"), "{e}");
@@ -231,15 +260,13 @@ fn bordered_films_round_trip_and_check_their_border() {
         e.contains("pixel (0, 0) of the border holds 1 samples"),
         "{e}"
     );
-    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=3", 1);
-    let e = refused(text.as_bytes());
+    let e = refused(&edited(&bytes, "border=2", "border=3"));
     assert!(
         e.contains("a border of 3 pixels where the render's filter (`mitchell r=2.0"),
         "{e}"
     );
     assert!(e.contains(") reaches 2"), "{e}");
-    let text = String::from_utf8_lossy(&bytes).replacen("border=2", "border=x", 1);
-    assert!(refused(text.as_bytes()).contains("bad `border`: `x`"));
+    assert!(refused(&edited(&bytes, "border=2", "border=x")).contains("bad `border`: `x`"));
     let mut boxed = film(9, 6, tile(0, 2, 3, 2), 2..5);
     boxed.border = 2;
     let e = format!("{:#}", merge(&[boxed], &[PathBuf::from("b")]).unwrap_err());
@@ -411,11 +438,11 @@ fn file_merges_stream_bodies_and_match_in_memory_merges() {
 #[test]
 fn header_values_are_clipped_in_messages() {
     let f = film(7, 5, tile(2, 1, 3, 4), 2..5);
-    let text = String::from_utf8_lossy(&f.to_bytes()).into_owned();
-    let with_spp = |n: usize| text.replacen("spp=8", &format!("spp={}", "9".repeat(n)), 1);
-    let e = refused(with_spp(10_000).as_bytes());
+    let bytes = f.to_bytes();
+    let with_spp = |n: usize| edited(&bytes, "spp=8", &format!("spp={}", "9".repeat(n)));
+    let e = refused(&with_spp(10_000));
     assert!(e.contains("bad `spp`") && e.len() < 300, "{e:.300}");
-    let e = refused(with_spp(100_000).as_bytes());
+    let e = refused(&with_spp(100_000));
     assert!(e.contains("header is longer than 64 KB"), "{e:.300}");
     let mut other = f.clone();
     other.key.fields[1].1 = "x".repeat(100_000);
@@ -423,3 +450,63 @@ fn header_values_are_clipped_in_messages() {
     let e = merge(&[f, other], &names).unwrap_err().to_string();
     assert!(e.contains("(100000 bytes)") && e.len() < 400, "{}", e.len());
 }
+
+/// Every header byte is covered by the header's checksum, and behind it
+/// every field is parsed as its type: free text that a merge would copy
+/// into an image's metadata is refused, and so is a film of another
+/// build, even when the parts agree with each other.
+#[test]
+fn headers_are_sealed_and_typed() {
+    let good = film(7, 5, tile(2, 1, 3, 4), 2..5).to_bytes();
+    Film::from_bytes(&good).unwrap();
+    let head = good.windows(2).position(|w| w == b"\n\n").unwrap();
+    for at in MAGIC_LEN + 1..head {
+        let mut bad = good.clone();
+        bad[at] ^= 0x04;
+        let e = refused(&bad);
+        assert!(
+            e.contains("header's checksum does not match") || e.contains("truncated"),
+            "byte {at}: {e}"
+        );
+    }
+    for (from, to, want) in [
+        ("seed=7", "seed=hello", "bad `seed`: `hello`"),
+        ("seed=7", "seed=07", "bad `seed`: `07`"),
+        (
+            "texture_filter=none",
+            "texture_filter=banana",
+            "bad `texture_filter`",
+        ),
+        ("sampler=sobol", "sampler=magic", "bad `sampler`"),
+        (
+            "direct_lighting=true",
+            "direct_lighting=yes",
+            "bad `direct_lighting`",
+        ),
+        (
+            "scene_hash=0123456789abcdef",
+            "scene_hash=0123456789ABCDEF",
+            "bad `scene_hash`",
+        ),
+        ("max_depth=5", "max_depth=-5", "bad `max_depth`"),
+        ("vfov 40.0", "vfov 40", "bad `camera`"),
+        ("filter=box r=0.5", "filter=box r=0.50", "bad `filter`"),
+        ("scene=test", "scene=", "bad `scene`"),
+        (
+            "seed=7",
+            "seed=7\ncolour=red",
+            "a field this build does not write: `colour`",
+        ),
+    ] {
+        let e = refused(&edited(&good, from, to));
+        assert!(e.contains(want), "{to}: {e}");
+    }
+    let v = format!("version={}", super::version());
+    let e = refused(&edited(&good, &v, "version=9.9.9+r99"));
+    assert!(
+        e.contains("made by strata 9.9.9+r99, and this is strata") && e.contains(&super::version()),
+        "{e}"
+    );
+}
+
+const MAGIC_LEN: usize = super::MAGIC.len();
