@@ -127,6 +127,42 @@ fn extension(path: &Path) -> Option<String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
+/// Removes the temporary files of writes of `path` by processes that are
+/// gone: `.NAME.strata-tmp-PID` beside it whose PID no running process
+/// has (a process killed while it wrote `path`). A live process's file is
+/// left alone (it may be writing now), and so is every file where the
+/// system cannot say which processes run (no `/proc`).
+pub fn remove_stale_temps(path: &Path) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Some(name) = path.file_name() else {
+        return;
+    };
+    let prefix = format!(".{}.strata-tmp-", name.to_string_lossy());
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let pid = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|p| p.parse::<u32>().ok());
+        if let Some(pid) = pid
+            && pid != std::process::id()
+            && !proc.join(pid.to_string()).exists()
+        {
+            std::fs::remove_file(entry.path()).ok();
+        }
+    }
+}
+
 /// `dir/.name.strata-tmp-PID` beside the target.
 fn temp_path(path: &Path) -> PathBuf {
     let name = path
@@ -137,7 +173,10 @@ fn temp_path(path: &Path) -> PathBuf {
 
 /// Writes through `write` into a temporary file and renames it to `path`;
 /// on any error the temporary file is removed and `path` is untouched.
+/// Temporary files that earlier writes of `path` left behind (a process
+/// killed while writing) are removed first ([`remove_stale_temps`]).
 pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    remove_stale_temps(path);
     let tmp = temp_path(path);
     let result = write(&tmp).and_then(|()| {
         std::fs::rename(&tmp, path)

@@ -706,3 +706,29 @@ fn a_checkpoint_that_cannot_be_written_costs_only_itself() {
     assert_eq!(names(d), ["one.png", "out.png"]);
     assert!(bytes(&d.join("out.png")) == bytes(&d.join("one.png")));
 }
+
+/// A write killed in its moment leaves `.NAME.strata-tmp-PID` beside its
+/// target; the next write of the same file removes those whose process is
+/// gone, and leaves a live process's alone.
+#[test]
+fn temporary_files_of_killed_writes_are_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // PIDs stop at 2^22 on Linux: this one never runs.
+    let dead = ".out.film.strata-tmp-999999999";
+    let dead_checkpoint = ".out.film.checkpoint.strata-tmp-999999998";
+    let live = format!(".out.film.strata-tmp-{}", std::process::id());
+    let other = ".other.film.strata-tmp-999999999";
+    for f in [dead, dead_checkpoint, live.as_str(), other] {
+        std::fs::write(d.join(f), b"cut off").unwrap();
+    }
+    ok(
+        d,
+        &[
+            "render", "--scene", "cover", "--width", "16", "--spp", "1", "-o", "out.film",
+        ],
+    );
+    let mut want = vec![live.clone(), other.to_string(), "out.film".to_string()];
+    want.sort();
+    assert_eq!(names(d), want);
+}
