@@ -70,7 +70,9 @@ impl Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene to a PNG or EXR image.
+    /// Render a scene to a PNG or EXR image, or to a partial .film for
+    /// `strata merge`; `--resume` finishes an interrupted render from its
+    /// checkpoint.
     Render(RenderArgs),
     /// Measure sampling, intersection and rendering throughput (see the
     /// suite in `std-runner/src/bench/`); prints a table.

@@ -12,6 +12,7 @@ pub mod hash;
 pub mod image_io;
 pub mod limits;
 pub mod plot;
+pub mod progress;
 pub mod render;
 pub mod scenes;
 pub mod settings;

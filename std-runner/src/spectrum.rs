@@ -111,12 +111,31 @@ pub fn spectrum(
     pixels: u32,
     r: u32,
 ) -> Result<Spectrum> {
+    spectrum_counted(sampler, spp, seed, pixels, r, &|_| {})
+}
+
+/// [`spectrum`], calling `progress` with the pixel count of each
+/// finished chunk of pixels.
+pub fn spectrum_counted(
+    sampler: SamplerKind,
+    spp: u32,
+    seed: u64,
+    pixels: u32,
+    r: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Spectrum> {
     if spp == 0 || pixels == 0 || r == 0 || r > MAX_RANGE {
         bail!("spectrum of {spp} spp over {pixels} pixels up to frequency {r}: out of range");
     }
     // The pixels are a row-major run of a 64-pixel-wide image.
     let resolution = UVec2::new(64, pixels.div_ceil(64));
-    let power = sampler.with_sampler(spp, seed, resolution, Average { spp, pixels, r })?;
+    let work = Average {
+        spp,
+        pixels,
+        r,
+        progress,
+    };
+    let power = sampler.with_sampler(spp, seed, resolution, work)?;
     Ok(Spectrum {
         sampler,
         spp,
@@ -127,25 +146,27 @@ pub fn spectrum(
 }
 
 /// The averaged periodogram, for one sampler kind.
-struct Average {
+struct Average<'p> {
     spp: u32,
     pixels: u32,
     r: u32,
+    progress: &'p (dyn Fn(u64) + Sync),
 }
 
-impl WithSampler for Average {
+impl WithSampler for Average<'_> {
     type Output = Vec<f64>;
     fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Vec<f64> {
-        average(sampler, self.spp, self.pixels, self.r)
+        average(sampler, &self)
     }
 }
 
-fn average<S: Sampler + Clone + Send + Sync>(
-    sampler: S,
-    spp: u32,
-    pixels: u32,
-    r: u32,
-) -> Vec<f64> {
+fn average<S: Sampler + Clone + Send + Sync>(sampler: S, work: &Average<'_>) -> Vec<f64> {
+    let &Average {
+        spp,
+        pixels,
+        r,
+        progress,
+    } = work;
     let side = 2 * r as usize + 1;
     let one = |i: u32| {
         let mut s = sampler.clone();
@@ -178,10 +199,11 @@ fn average<S: Sampler + Clone + Send + Sync>(
         a
     };
     let chunk = |c: u32| {
-        (c * 16..(c * 16 + 16).min(pixels))
-            .map(one)
-            .reduce(add)
-            .expect("a chunk holds a pixel")
+        let run = c * 16..(c * 16 + 16).min(pixels);
+        let n = run.len() as u64;
+        let sum = run.map(one).reduce(add).expect("a chunk holds a pixel");
+        progress(n);
+        sum
     };
     let chunks = pixels.div_ceil(16);
     let mut total = vec![0.0; side * side];

@@ -16,6 +16,7 @@ use strata::render::Tile;
 
 use crate::image_io::write_atomic;
 use crate::plot;
+use crate::progress::Phase;
 use crate::render::{Job, SamplerKind, run};
 use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
@@ -95,8 +96,15 @@ pub struct View<'a> {
 
 impl View<'_> {
     /// Renders the window with `sampler` at `spp` and `seed`, returning the
-    /// pixel means (row-major within the window).
-    pub fn render(&self, sampler: SamplerKind, spp: u32, seed: u64) -> Result<Vec<Vec3>> {
+    /// pixel means (row-major within the window); `progress` is called with
+    /// each finished tile's pixel count.
+    pub fn render(
+        &self,
+        sampler: SamplerKind,
+        spp: u32,
+        seed: u64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<Vec3>> {
         let job = Job {
             window: self.window,
             max_depth: self.max_depth,
@@ -107,7 +115,7 @@ impl View<'_> {
             filter: self.filter,
             ..Job::new(self.scene, self.width, self.height, spp)
         };
-        Ok(run(&job, &|_| {})?
+        Ok(run(&job, progress)?
             .pixels
             .iter()
             .map(|p| p.mean())
@@ -168,7 +176,9 @@ pub fn default_cache_dir() -> PathBuf {
 /// for exactly this view (the file stores its key and is checked against
 /// it), else rendered and stored. Returns the pixels and whether they came
 /// from the cache. A cache that cannot be read or written is ignored with
-/// a warning: it only saves time.
+/// a warning: it only saves time. A render shows its progress as the
+/// phase `reference: sobol N spp`, which ends once the reference is
+/// stored: a study interrupted after it keeps its reference.
 pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec3>, bool)> {
     let key = view.reference_key(spp);
     let n = view.window.area();
@@ -185,7 +195,19 @@ pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec
         texture_filter: strata::render::TextureFilter::None,
         ..view.clone()
     };
-    let pixels = point.render(SamplerKind::Sobol, spp, REFERENCE_SEED)?;
+    let w = view.window;
+    let filter = match view.filter == strata::render::PixelFilter::BOX {
+        true => String::new(),
+        false => format!(", {}", crate::film::filter_text(&view.filter)),
+    };
+    let phase = Phase::start(
+        &format!(
+            "reference: sobol {spp} spp, {}x{} pixels{filter}",
+            w.width, w.height
+        ),
+        n as u64,
+    );
+    let pixels = point.render(SamplerKind::Sobol, spp, REFERENCE_SEED, &|k| phase.inc(k))?;
     let stored = std::fs::create_dir_all(cache_dir)
         .map_err(anyhow::Error::from)
         .and_then(|()| write_atomic(&path, |tmp| write_reference(tmp, &key, &pixels)));
@@ -195,6 +217,7 @@ pub fn reference(view: &View<'_>, spp: u32, cache_dir: &Path) -> Result<(Vec<Vec
             path.display()
         );
     }
+    phase.finish();
     Ok((pixels, false))
 }
 
@@ -249,7 +272,9 @@ pub struct Point {
 /// and measures RMSE against `reference`; with `spectra`, also the
 /// periodogram of each point's error images (luminance, mean removed)
 /// averaged over the seeds: where in frequency each sampler puts its
-/// error. `progress` gets each finished point.
+/// error. `progress` is called with the pixel samples of each finished
+/// tile (pixels × spp): the study's total is
+/// [`converge_samples`].
 pub fn converge(
     view: &View<'_>,
     samplers: &[SamplerKind],
@@ -257,7 +282,7 @@ pub fn converge(
     seeds: u32,
     reference: &[Vec3],
     spectra: bool,
-    progress: &dyn Fn(&Point),
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<(Point, Option<ErrorSpectrum>)>> {
     let (w, h) = (view.window.width as usize, view.window.height as usize);
     let mut out = Vec::new();
@@ -266,7 +291,8 @@ pub fn converge(
             let mut mse = 0.0;
             let mut spectrum = spectra.then(|| ErrorSpectrum::new(w, h));
             for seed in 0..seeds {
-                let image = view.render(sampler, spp, seed as u64)?;
+                let image =
+                    view.render(sampler, spp, seed as u64, &|n| progress(n * spp as u64))?;
                 let e = rmse(&image, reference);
                 mse += e * e;
                 if let Some(s) = &mut spectrum {
@@ -278,11 +304,18 @@ pub fn converge(
                 spp,
                 rmse: (mse / seeds as f64).sqrt(),
             };
-            progress(&point);
             out.push((point, spectrum));
         }
     }
     Ok(out)
+}
+
+/// The pixel samples [`converge`] renders: every sampler at every spp for
+/// every seed, over the view's window.
+#[must_use]
+pub fn converge_samples(view: &View<'_>, samplers: usize, spps: &[u32], seeds: u32) -> u64 {
+    let per_sampler: u64 = spps.iter().map(|&s| s as u64).sum();
+    per_sampler * samplers as u64 * seeds as u64 * view.window.area() as u64
 }
 
 /// The rings of the error-spectrum plot and CSV, up to 0.5 cycles per

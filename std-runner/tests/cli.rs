@@ -1972,3 +1972,210 @@ fn filter_study_checks_its_flags_then_measures_every_filter_against_the_box() {
     // Each reference was cached under the filter it was made with.
     assert_eq!(std::fs::read_dir(d.join("cache")).unwrap().count(), 3);
 }
+
+/// The phases of a command's `STRATA_PROGRESS=lines` report, in order of
+/// their first line: (name, percentages reported, its closing line's
+/// share).
+fn phases(stderr: &str) -> Vec<(String, Vec<u32>, Option<u32>)> {
+    let mut out: Vec<(String, Vec<u32>, Option<u32>)> = Vec::new();
+    for line in stderr.lines() {
+        let Some((name, rest)) = line.rsplit_once(": ") else {
+            continue;
+        };
+        // `NAME: P %` or `NAME: P %, done in S s`; other lines are not
+        // progress.
+        let Some((Ok(share), tail)) = rest.split_once(" %").map(|(p, t)| (p.parse::<u32>(), t))
+        else {
+            continue;
+        };
+        let done = tail.starts_with(", done in");
+        let name = name.to_string();
+        let at = match out.iter().position(|p| p.0 == name) {
+            Some(i) => i,
+            None => {
+                out.push((name, vec![], None));
+                out.len() - 1
+            }
+        };
+        match done {
+            true => out[at].2 = Some(share),
+            false => out[at].1.push(share),
+        }
+    }
+    out
+}
+
+/// Every phase of a long command reports from 0 % up, in order, and ends
+/// at 100 % (every unit it counts is counted): the studies that were
+/// silent for minutes, and a render.
+#[test]
+fn long_commands_report_progress_phase_by_phase() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let run = |args: &[&str]| -> String {
+        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(args)
+            .current_dir(d)
+            .env("STRATA_PROGRESS", "lines")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {err}");
+        err
+    };
+    let cases: [(&[&str], &[&str]); 6] = [
+        (
+            &["spectrum", "--spp", "4", "--pixels", "64", "-o", "s.png"],
+            &["periodograms: 6 samplers over 64 pixels"],
+        ),
+        (
+            &[
+                "converge",
+                "--width",
+                "48",
+                "--spps",
+                "1,4",
+                "--reference-spp",
+                "64",
+                "--samplers",
+                "sobol,independent",
+                "--cache-dir",
+                "c1",
+            ],
+            &["reference: sobol 64 spp", "measuring:"],
+        ),
+        (
+            &[
+                "aliasing",
+                "--width",
+                "32",
+                "--reference-spp",
+                "16",
+                "-o",
+                "a.png",
+            ],
+            &["panels:", "reference: sobol 16 spp"],
+        ),
+        (
+            &[
+                "adaptive",
+                "--width",
+                "32",
+                "--seeds",
+                "1",
+                "--min-spp",
+                "8",
+                "--max-spp",
+                "16",
+                "--cache-dir",
+                "c2",
+            ],
+            &[
+                "adaptive: 1 render",
+                "reference: sobol",
+                "uniform ",
+                "CPU seconds:",
+            ],
+        ),
+        (
+            &[
+                "filters",
+                "--width",
+                "32",
+                "--spps",
+                "1",
+                "--seeds",
+                "1",
+                "--rounds",
+                "1",
+                "--reference-spp",
+                "16",
+                "--filters",
+                "tent",
+                "--cache-dir",
+                "c3",
+            ],
+            &["reference: sobol 16 spp", "1 spp:"],
+        ),
+        (
+            &["render", "--width", "32", "--spp", "2", "-o", "r.png"],
+            &["render week09"],
+        ),
+    ];
+    for (args, want) in cases {
+        let err = run(args);
+        let got = phases(&err);
+        let mut at = 0;
+        for w in want {
+            let k = got[at..]
+                .iter()
+                .position(|p| p.0.starts_with(w))
+                .unwrap_or_else(|| panic!("{args:?}: no phase `{w}` (in order) in\n{err}"));
+            at += k;
+        }
+        for (name, shares, end) in &got {
+            assert_eq!(
+                shares.first(),
+                Some(&0),
+                "{args:?} {name}: starts at 0 %\n{err}"
+            );
+            assert!(
+                shares.windows(2).all(|w| w[0] < w[1]),
+                "{args:?} {name}: rises\n{err}"
+            );
+            assert_eq!(*end, Some(100), "{args:?} {name}: ends complete\n{err}");
+        }
+    }
+    // Without the variable and without a terminal: nothing drawn.
+    let out = strata(d, &["render", "--width", "32", "--spp", "2", "-o", "q.png"]);
+    assert!(String::from_utf8_lossy(&out.stderr).trim().is_empty());
+}
+
+/// A study stopped after its reference keeps it: the reference's phase
+/// ends only once it is stored, and the next run reads it from the cache.
+#[test]
+fn an_interrupted_study_keeps_its_finished_reference() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "converge",
+        "--width",
+        "96",
+        "--spps",
+        "1,4,16,64",
+        "--seeds",
+        "4",
+        "--reference-spp",
+        "1024",
+        "--cache-dir",
+        "cache",
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .current_dir(d)
+        .env("STRATA_PROGRESS", "lines")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    for line in err.lines() {
+        let line = line.unwrap();
+        seen.push_str(&line);
+        seen.push('\n');
+        if line.starts_with("reference: ") && line.contains("done in") {
+            break;
+        }
+    }
+    // Killed at once (it may have finished meanwhile on a fast machine:
+    // the reference must be kept either way).
+    child.kill().ok();
+    child.wait().unwrap();
+    assert!(seen.contains("done in"), "{seen}");
+    let cached: Vec<_> = std::fs::read_dir(d.join("cache")).unwrap().collect();
+    assert_eq!(cached.len(), 1, "{seen}");
+    let out = ok(d, &args[..]);
+    assert!(out.contains("reference: sobol 1024 spp, cached"), "{out}");
+}

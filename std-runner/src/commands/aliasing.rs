@@ -11,6 +11,7 @@ use crate::cli::{AliasingArgs, TextureFilterName};
 use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene};
 use crate::image_io::{Transfer, rgb8, say};
 use crate::plot;
+use crate::progress::Phase;
 use crate::render::SamplerKind;
 use crate::study::{self, View};
 
@@ -68,13 +69,27 @@ fn sampler_panels(args: &AliasingArgs, view: &View<'_>) -> Result<Vec<Panel>> {
         TextureFilterName::None => "",
         TextureFilterName::Box => ", prefiltered",
     };
-    args.samplers
+    let phase = Phase::start(
+        &format!(
+            "panels: {} samplers at {} spp",
+            args.samplers.len(),
+            args.spp
+        ),
+        (args.samplers.len() * view.window.area()) as u64,
+    );
+    let panels = args
+        .samplers
         .iter()
         .map(|&s| {
             let label = format!("{}, {} spp{prefiltered}", s.name(), args.spp);
-            Ok((label, view.render(s, args.spp, args.seed)?))
+            Ok((
+                label,
+                view.render(s, args.spp, args.seed, &|n| phase.inc(n))?,
+            ))
         })
-        .collect()
+        .collect();
+    phase.finish();
+    panels
 }
 
 /// Renders the point-sampled Sobol' reference, labels each panel with its
@@ -84,12 +99,18 @@ fn add_reference(args: &AliasingArgs, view: &View<'_>, panels: &mut Vec<Panel>) 
         texture_filter: TextureFilter::None,
         ..view.clone()
     };
+    let phase = Phase::start(
+        &format!("reference: sobol {} spp", args.reference_spp),
+        view.window.area() as u64,
+    );
     let reference = point.render(
         SamplerKind::Sobol,
         args.reference_spp,
         // A seed apart from the panels' (never equal to it).
         args.seed ^ study::REFERENCE_SEED,
+        &|n| phase.inc(n),
     )?;
+    phase.finish();
     for (label, pixels) in panels.iter_mut() {
         let e = study::rmse(pixels, &reference);
         say(&format!("{label}: RMSE {e:.4}"));

@@ -16,6 +16,7 @@ use crate::commands::{
 use crate::image_io::say;
 use crate::limits::MAX_SPECTRUM_SIDE;
 use crate::plot;
+use crate::progress::Phase;
 use crate::render::SamplerKind;
 use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
@@ -50,6 +51,16 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
+    let total = study::converge_samples(view, plan.samplers.len(), &plan.spps, args.seeds);
+    let phase = Phase::start(
+        &format!(
+            "measuring: {} samplers at {} spp counts, {} seed(s)",
+            plan.samplers.len(),
+            plan.spps.len(),
+            args.seeds
+        ),
+        total,
+    );
     let measured = study::converge(
         view,
         &plan.samplers,
@@ -57,8 +68,9 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         args.seeds,
         &reference,
         plan.error_spectrum.is_some(),
-        &|_| {},
+        &|n| phase.inc(n),
     )?;
+    phase.finish();
     let points: Vec<Point> = measured.iter().map(|m| m.0).collect();
     let spectra: Option<Vec<(Point, ErrorSpectrum)>> = plan.error_spectrum.as_ref().map(|_| {
         measured

@@ -16,7 +16,6 @@ pub use render::Interrupted;
 pub mod spectrum;
 pub mod verify;
 
-use std::io::IsTerminal;
 use std::path::Path;
 
 use anyhow::{Result, bail};
@@ -171,10 +170,10 @@ pub(crate) fn samplers_or_all(listed: &[SamplerKind]) -> Vec<SamplerKind> {
 }
 
 /// A progress bar of `len` steps on stderr drawn by `template`, hidden
-/// when stderr is not a terminal (a log or a pipe would fill with
-/// redraws).
+/// unless stderr is a terminal (a log or a pipe would fill with redraws)
+/// or `STRATA_PROGRESS` hides it ([`crate::progress::Mode`]).
 pub(crate) fn progress_bar(len: u64, template: &str) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
+    if crate::progress::Mode::from_env() != crate::progress::Mode::Bar {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::new(len);

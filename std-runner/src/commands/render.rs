@@ -14,11 +14,11 @@ use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
 use crate::commands::{
-    adaptive_settings, check_output_ext, check_pixels, height_for, progress_bar, resolve_scene,
-    window_of,
+    adaptive_settings, check_output_ext, check_pixels, height_for, resolve_scene, window_of,
 };
 use crate::film::{Film, RenderKey, extent, is_film_path, samples_text, window_text};
 use crate::image_io::{Transfer, check_writable_dir, say};
+use crate::progress::Phase;
 use crate::render::{Job, Outcome, Rendered, Resume, SamplerKind, TileFilm, run_resumable};
 use crate::scenes::SceneData;
 use crate::scenes::built_in;
@@ -225,17 +225,17 @@ fn finish(
         }
         Ok(())
     };
-    let bar = progress_bar(
+    let phase = Phase::start(
+        &format!("render {}", job.scene.name),
         job.window.area() as u64,
-        "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ETA {eta}",
     );
     let resume = Resume {
         done,
         on_tile: &on_tile,
         stop: &STOP,
     };
-    let outcome = run_resumable(job, &|n| bar.inc(n), resume);
-    bar.finish_and_clear();
+    let outcome = run_resumable(job, &|n| phase.inc(n), resume);
+    phase.finish();
     // Keeps the checkpoint when it holds tiles or was given (and says so),
     // else removes it: a render refused before its first tile leaves no
     // file.

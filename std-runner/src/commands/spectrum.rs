@@ -10,6 +10,7 @@ use crate::commands::output::{same_path, write_text};
 use crate::commands::{check_output_ext, samplers_or_all};
 use crate::image_io::say;
 use crate::plot;
+use crate::progress::Phase;
 use crate::spectrum::{self as sp, Spectrum};
 
 /// The radial plot's size in pixels.
@@ -25,12 +26,23 @@ pub fn spectrum(args: &SpectrumArgs) -> Result<()> {
         .num_threads(args.threads as usize)
         .build()
         .context("cannot start the worker threads")?;
+    let phase = Phase::start(
+        &format!(
+            "periodograms: {} samplers over {} pixels",
+            samplers.len(),
+            args.pixels
+        ),
+        samplers.len() as u64 * args.pixels as u64,
+    );
     let spectra: Vec<Spectrum> = pool.install(|| {
         samplers
             .iter()
-            .map(|&s| sp::spectrum(s, args.spp, args.seed, args.pixels, r))
+            .map(|&s| {
+                sp::spectrum_counted(s, args.spp, args.seed, args.pixels, r, &|n| phase.inc(n))
+            })
             .collect::<Result<_>>()
     })?;
+    phase.finish();
     write_files(args, &spectra, r, &plot_path, &csv_path)?;
     for s in &spectra {
         say(&sp::summary(s));

@@ -18,6 +18,7 @@
 //! leaves out the reference's own error, shared by every seed: at 64
 //! times the spp it adds about `1/√64` of one seed's).
 
+use crate::progress::Phase;
 use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
@@ -210,13 +211,14 @@ impl Report {
 }
 
 /// Renders `view` once with `sampler` and `seed`, adaptively or at a
-/// uniform `spp`.
+/// uniform `spp`, counting its pixels into `phase`.
 fn render_once(
     view: &View<'_>,
     sampler: SamplerKind,
     seed: u64,
     adaptive: Option<Adaptive>,
     spp: u32,
+    phase: &Phase,
 ) -> Result<Render> {
     let spp = adaptive.map_or(spp, |a| a.max());
     let job = Job {
@@ -230,7 +232,7 @@ fn render_once(
         ..Job::new(view.scene, view.width, view.height, spp)
     };
     let before = process_cpu_seconds().unwrap_or(0.0);
-    let done = run(&job, &|_| {})?;
+    let done = run(&job, &|n| phase.inc(n))?;
     let cpu = process_cpu_seconds().unwrap_or(0.0) - before;
     Ok(Render {
         image: done.pixels.iter().map(|p| p.mean()).collect(),
@@ -268,9 +270,12 @@ pub fn study(
     if seeds == 0 {
         bail!("the study needs at least one seed");
     }
+    let area = view.window.area() as u64;
+    let phase = Phase::start(&format!("adaptive: {seeds} render(s)"), seeds as u64 * area);
     let adaptive_runs = (0..seeds)
-        .map(|s| render_once(view, sampler, s as u64, Some(adaptive), 0))
+        .map(|s| render_once(view, sampler, s as u64, Some(adaptive), 0, &phase))
         .collect::<Result<Vec<_>>>()?;
+    phase.finish();
     let px = view.window.area() as f64;
     let mean_spp = adaptive_runs.iter().map(|r| r.paths as f64).sum::<f64>() / (seeds as f64 * px);
     let wanted = (REFERENCE_FACTOR * mean_spp).ceil();
@@ -321,9 +326,14 @@ pub fn study(
         * 4;
     loop {
         if !uniform.iter().any(|r| r.uniform_spp == Some(spp)) {
+            let phase = Phase::start(
+                &format!("uniform {spp} spp: {seeds} render(s)"),
+                seeds as u64 * area,
+            );
             let runs = (0..seeds)
-                .map(|s| render_once(view, sampler, s as u64, None, spp))
+                .map(|s| render_once(view, sampler, s as u64, None, spp, &phase))
                 .collect::<Result<Vec<_>>>()?;
+            phase.finish();
             let r = row(Some(spp), &runs, &reference);
             say(&format!(
                 "uniform {spp}: RMSE {:.4e}, {:.1} rays/px, {:.2} CPU s",
@@ -348,12 +358,18 @@ pub fn study(
     // those of the first pass (the same bits).
     say("CPU seconds: the adaptive render and the ladder again, interleaved seed by seed");
     let mut cpu = vec![0.0; uniform.len() + 1];
+    let phase = Phase::start(
+        &format!("CPU seconds: {} render(s)", seeds as usize * cpu.len()),
+        (seeds as usize * cpu.len()) as u64 * area,
+    );
     for s in 0..seeds {
-        cpu[0] += render_once(view, sampler, s as u64, Some(adaptive), 0)?.cpu;
+        cpu[0] += render_once(view, sampler, s as u64, Some(adaptive), 0, &phase)?.cpu;
         for (c, r) in cpu[1..].iter_mut().zip(&uniform) {
-            *c += render_once(view, sampler, s as u64, None, r.uniform_spp.unwrap_or(1))?.cpu;
+            let spp = r.uniform_spp.unwrap_or(1);
+            *c += render_once(view, sampler, s as u64, None, spp, &phase)?.cpu;
         }
     }
+    phase.finish();
     adaptive_row.cpu = cpu[0] / seeds as f64;
     for (r, c) in uniform.iter_mut().zip(&cpu[1..]) {
         r.cpu = c / seeds as f64;

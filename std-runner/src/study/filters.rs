@@ -19,6 +19,7 @@
 //! box the filter's time, its error falling at its own measured rate
 //! ([`Report::against_box`]).
 
+use crate::progress::Phase;
 use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
@@ -321,6 +322,13 @@ pub fn study(
     }
     let mut rows = Vec::new();
     for &spp in spps.iter() {
+        let phase = Phase::start(
+            &format!(
+                "{spp} spp: {} filters, {seeds} seed(s), {rounds} round(s)",
+                all.len()
+            ),
+            (rounds * seeds) as u64 * all.len() as u64 * view.window.area() as u64,
+        );
         let render = |v: &View<'_>, seed: u64| {
             let job = Job {
                 window: v.window,
@@ -332,7 +340,7 @@ pub fn study(
                 filter: v.filter,
                 ..Job::new(v.scene, v.width, v.height, spp)
             };
-            run(&job, &|_| {})
+            run(&job, &|n| phase.inc(n))
         };
         // Per filter: summed squared RMSE, negatives, fallbacks and
         // luminance over seeds, and every render's seconds; the filters
@@ -375,6 +383,7 @@ pub fn study(
                 time_ratio: median(&ratios),
             });
         }
+        phase.finish();
         say(&format!("{spp} spp: done"));
     }
     Ok(Report {
