@@ -306,6 +306,40 @@ pub fn run_resumable(
     progress: &(dyn Fn(u64) + Sync),
     resume: Resume<'_>,
 ) -> Result<Outcome> {
+    let resolution = UVec2::new(job.width, job.height);
+    resumable(job, progress, resume, |work| {
+        job.sampler
+            .with_sampler(job.spp, job.seed, resolution, work)?
+    })
+}
+
+/// [`run`] with `sampler` in place of the one `job.sampler` names (whose
+/// name still keys the render): for benchmarks that time an instrumented
+/// or deliberately slowed sampler in a real render.
+pub fn run_with_sampler<S: Sampler + Clone + Send + Sync>(
+    job: &Job<'_>,
+    sampler: S,
+) -> Result<Rendered> {
+    let stop = AtomicBool::new(false);
+    let resume = Resume {
+        done: Vec::new(),
+        on_tile: &|_| Ok(()),
+        stop: &stop,
+    };
+    match resumable(job, &|_| {}, resume, |work| work.run(sampler))? {
+        Outcome::Finished(r) => Ok(r),
+        Outcome::Stopped { .. } => unreachable!("nothing sets the stop flag"),
+    }
+}
+
+/// [`run_resumable`], the tiles rendered by `render_tiles` (the work with
+/// a sampler).
+fn resumable(
+    job: &Job<'_>,
+    progress: &(dyn Fn(u64) + Sync),
+    resume: Resume<'_>,
+    render_tiles: impl FnOnce(RenderAll<'_, '_>) -> Result<Vec<TileFilm>> + Send,
+) -> Result<Outcome> {
     let data = job.scene;
     let w = job.window;
     if w.width == 0
@@ -361,7 +395,7 @@ pub fn run_resumable(
     let start = Instant::now();
     let new = data.with_scene_bvh(job.bvh, |scene| {
         pool.install(|| {
-            let work = RenderAll {
+            render_tiles(RenderAll {
                 job,
                 scene,
                 camera: &camera,
@@ -371,9 +405,7 @@ pub fn run_resumable(
                 skip: &skip,
                 on_tile: resume.on_tile,
                 stop: resume.stop,
-            };
-            job.sampler
-                .with_sampler(job.spp, job.seed, UVec2::new(job.width, job.height), work)?
+            })
         })
     })??;
     let wall = start.elapsed();

@@ -47,7 +47,7 @@ impl Group {
     #[must_use]
     pub const fn comparisons(self) -> u64 {
         match self {
-            Group::Sampling => 6,
+            Group::Sampling => 7,
             Group::Intersection => 8,
             Group::Bvh => 6 + 1,
             Group::Rendering => 3,
@@ -142,10 +142,52 @@ pub struct Goal {
     pub name: String,
     /// The target ratio.
     pub target: f64,
+    /// Whether the ratio must be at most the target (a cost), not at
+    /// least (a speed-up).
+    pub at_most: bool,
     /// The median ratio measured.
     pub measured: f64,
-    /// Whether `measured ≥ target`, or why the run cannot say.
+    /// Whether the measured ratio meets the target, or why the run cannot
+    /// say.
     pub verdict: Verdict,
+    /// A must-fail control: a contender made slow on purpose, which must
+    /// miss its target for the goals it controls to be judged.
+    pub control: bool,
+}
+
+/// A ratio's target: its value, and whether the ratio must be at most it
+/// (a cost) or at least it (a speed-up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// The target ratio.
+    pub value: f64,
+    /// At most (`true`) or at least (`false`).
+    pub at_most: bool,
+}
+
+impl Target {
+    const fn at_least(value: f64) -> Target {
+        Target {
+            value,
+            at_most: false,
+        }
+    }
+
+    const fn at_most(value: f64) -> Target {
+        Target {
+            value,
+            at_most: true,
+        }
+    }
+
+    /// Whether `measured` meets the target.
+    #[must_use]
+    pub fn met(&self, measured: f64) -> bool {
+        match self.at_most {
+            true => measured <= self.value,
+            false => measured >= self.value,
+        }
+    }
 }
 
 /// A goal's verdict.
@@ -180,32 +222,56 @@ pub const MIN_JUDGED_CORES: f64 = 1.85;
 ///   as two 4-lane halves and are not judged.
 /// - 2 threads / 1 thread: 1.9×, judged only when the 2-thread run had
 ///   [`MIN_JUDGED_CORES`].
-/// - A sampler's pixel samples per second against the independent
-///   sampler's ([`SAMPLER_TARGETS`]): what a better sampler may cost for
-///   its gain to survive at equal time. ZSobol is reported, not judged.
+/// - What a render costs with each sampler against the independent
+///   sampler ([`RENDER_COST_TARGETS`], at most): what a better sampler may
+///   cost for its gain to survive at equal time, judged on whole renders
+///   (the samplers' own microbenchmark, `sampling / sampler`, is reported,
+///   not judged: its ratios follow the independent sampler's speed on the
+///   CPU, while a sampler is a small share of a render). Judged only when
+///   the must-fail control ([`RENDER_COST_CONTROL`]) misses its target.
 #[must_use]
-pub fn target(ratio: &str, simd: strata::trace::SimdLevel) -> Option<f64> {
+pub fn target(ratio: &str, simd: strata::trace::SimdLevel) -> Option<Target> {
     use strata::trace::SimdLevel;
     if ratio.ends_with("2 threads / 1 thread") {
-        return Some(1.9);
+        return Some(Target::at_least(1.9));
     }
-    if let Some(&(_, t)) = SAMPLER_TARGETS.iter().find(|(name, _)| *name == ratio) {
-        return Some(t);
+    if let Some(&(_, t)) = RENDER_COST_TARGETS
+        .iter()
+        .chain([&RENDER_COST_CONTROL])
+        .find(|(name, _)| *name == ratio)
+    {
+        return Some(Target::at_most(t));
     }
     if ratio.ends_with("packet / scalar") {
-        return matches!(simd, SimdLevel::Avx2 | SimdLevel::Avx512).then_some(PACKET_TARGET);
+        return matches!(simd, SimdLevel::Avx2 | SimdLevel::Avx512)
+            .then_some(Target::at_least(PACKET_TARGET));
     }
     None
 }
 
-/// Targets of the sampler comparison (`sampling / sampler`), as ratios to
-/// the independent sampler in the same run.
-pub const SAMPLER_TARGETS: [(&str, f64); 4] = [
-    ("sampler grid / independent", 0.35),
-    ("sampler stratified / independent", 0.35),
-    ("sampler sobol / independent", 0.6),
-    ("sampler halton / independent", 0.1),
+/// The render-cost comparison: `week09` at 160 × 90, 16 spp, depth 5, on
+/// one thread, with every sampler and the control, timed by the render.
+pub const RENDER_COST: &str = "render cost/week09";
+
+/// Targets of [`RENDER_COST`]: a render's seconds with each sampler over
+/// the independent sampler's, in the same run, at most. (Measured by
+/// callgrind on such renders: Sobol' 1.05–1.07×, stratified 1.11–1.17×,
+/// ZSobol 1.28–1.32×, Halton 1.26–1.46×.)
+pub const RENDER_COST_TARGETS: [(&str, f64); 5] = [
+    ("render cost/week09 sobol / independent", 1.15),
+    ("render cost/week09 grid / independent", 1.25),
+    ("render cost/week09 stratified / independent", 1.25),
+    ("render cost/week09 zsobol / independent", 1.40),
+    ("render cost/week09 halton / independent", 1.55),
 ];
+
+/// The must-fail control of [`RENDER_COST_TARGETS`]: the independent
+/// sampler slowed on purpose so that a render costs at least 1.3 times as
+/// much (checked by instruction counts), judged against the tightest
+/// target. Should it pass, the run cannot tell such a sampler from a good
+/// one, and the sampler goals are not judged.
+pub const RENDER_COST_CONTROL: (&str, f64) =
+    ("render cost/week09 slowed control / independent", 1.15);
 
 /// Packet / scalar target of AVX2 and AVX-512 builds: below every packet
 /// comparison's measured median on both levels (lowest 4.0×, see
@@ -214,10 +280,16 @@ pub const PACKET_TARGET: f64 = 3.5;
 
 pub(super) fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<Goal> {
     let simd = strata::trace::simd_level();
+    // The control passing means the sampler goals cannot be judged.
+    let blind = ratios
+        .iter()
+        .find(|r| r.name == RENDER_COST_CONTROL.0)
+        .map(|r| r.ratio.median <= RENDER_COST_CONTROL.1);
     ratios
         .iter()
         .filter_map(|r| {
             let target = target(&r.name, simd)?;
+            let control = r.name == RENDER_COST_CONTROL.0;
             let measured = r.ratio.median;
             let busy = r.name.strip_suffix(" / 1 thread").and_then(|two| {
                 match effective_cores.iter().find(|(n, _)| n == two) {
@@ -228,16 +300,29 @@ pub(super) fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<
                     Some(_) => None,
                 }
             });
+            let busy = busy.or_else(|| {
+                let sampler = RENDER_COST_TARGETS.iter().any(|(n, _)| *n == r.name);
+                match (sampler, blind) {
+                    (true, Some(true)) => Some(
+                        "the must-fail control passed: this run cannot tell a slow sampler"
+                            .to_string(),
+                    ),
+                    (true, None) => Some("the must-fail control did not run".to_string()),
+                    _ => None,
+                }
+            });
             let verdict = match busy {
                 Some(why) => Verdict::NotJudged(why),
-                None if measured >= target => Verdict::Pass,
+                None if target.met(measured) => Verdict::Pass,
                 None => Verdict::Fail,
             };
             Some(Goal {
                 name: r.name.clone(),
-                target,
+                target: target.value,
+                at_most: target.at_most,
                 measured,
                 verdict,
+                control,
             })
         })
         .collect()
@@ -310,6 +395,17 @@ fn cpu_seconds_of_stat(stat: &str) -> Option<f64> {
     Some(ticks as f64 / 100.0)
 }
 
+/// The ratios a comparison records, each contender's against the first's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Ratios {
+    /// None.
+    None,
+    /// Its rate over the first's: a speed-up.
+    Rate,
+    /// The first's rate over its rate: what the same work costs with it.
+    Cost,
+}
+
 pub(super) struct Suite<'p> {
     pub(super) options: Options,
     pub(super) figures: Vec<Figure>,
@@ -332,7 +428,7 @@ impl Suite<'_> {
         comparison: &str,
         unit: &str,
         mut cs: Vec<Contender<'_>>,
-        ratios: bool,
+        ratios: Ratios,
     ) -> Result<Vec<Option<f64>>> {
         (self.progress)(comparison);
         let reps = self.options.repetitions;
@@ -366,10 +462,16 @@ impl Suite<'_> {
                 extra: vec![],
             });
         }
-        if ratios {
+        if ratios != Ratios::None {
             for k in 1..cs.len() {
-                let per_rep: Vec<f64> =
-                    rates[k].iter().zip(&rates[0]).map(|(a, b)| a / b).collect();
+                let per_rep: Vec<f64> = rates[k]
+                    .iter()
+                    .zip(&rates[0])
+                    .map(|(a, b)| match ratios {
+                        Ratios::Cost => b / a,
+                        _ => a / b,
+                    })
+                    .collect();
                 self.ratios.push(Ratio {
                     name: format!("{comparison} {} / {}", cs[k].name, cs[0].name),
                     ratio: Stat::of(&per_rep),
@@ -428,14 +530,22 @@ pub fn table(r: &Report) -> String {
     }
     out += "\ngoals (ratios within this run; absolute rates are not judged)\n";
     for g in &r.goals {
-        let verdict = match &g.verdict {
-            Verdict::Pass => "PASS".to_string(),
-            Verdict::Fail => "FAIL".to_string(),
-            Verdict::NotJudged(why) => format!("not judged: {why}"),
+        let verdict = match (&g.verdict, g.control) {
+            (Verdict::Pass, false) => "PASS".to_string(),
+            (Verdict::Fail, false) => "FAIL".to_string(),
+            (Verdict::Fail, true) => "FAIL, as this must-fail control must".to_string(),
+            (Verdict::Pass, true) => {
+                "PASS, but this must-fail control must fail: the goals it controls are not judged"
+                    .to_string()
+            }
+            (Verdict::NotJudged(why), _) => format!("not judged: {why}"),
         };
         out += &format!(
-            "  {:<52} {:6.2}x  (target {}x)  {verdict}\n",
-            g.name, g.measured, g.target,
+            "  {:<52} {:6.2}x  (target {} {}x)  {verdict}\n",
+            g.name,
+            g.measured,
+            if g.at_most { "≤" } else { "≥" },
+            g.target,
         );
     }
     for (name, c) in &r.effective_cores {
@@ -526,12 +636,13 @@ mod tests {
     fn packet_targets_depend_on_the_simd_level() {
         use strata::trace::SimdLevel;
         let name = "closest/cover_camera packet / scalar";
-        assert_eq!(target(name, SimdLevel::Avx512), Some(PACKET_TARGET));
-        assert_eq!(target(name, SimdLevel::Avx2), Some(PACKET_TARGET));
+        let packet = Some(Target::at_least(PACKET_TARGET));
+        assert_eq!(target(name, SimdLevel::Avx512), packet);
+        assert_eq!(target(name, SimdLevel::Avx2), packet);
         assert_eq!(target(name, SimdLevel::Sse2), None);
         assert_eq!(
             target("render/cover 2 threads / 1 thread", SimdLevel::Sse2),
-            Some(1.9)
+            Some(Target::at_least(1.9))
         );
         assert_eq!(
             target(
@@ -540,13 +651,59 @@ mod tests {
             ),
             None
         );
+        // The samplers: judged by what a render costs, at most.
         assert_eq!(
-            target("sampler sobol / independent", SimdLevel::Sse2),
-            Some(0.6)
+            target("render cost/week09 sobol / independent", SimdLevel::Sse2),
+            Some(Target::at_most(1.15))
         );
         assert_eq!(
-            target("sampler zsobol / independent", SimdLevel::Avx2),
-            None
+            target("render cost/week09 halton / independent", SimdLevel::Avx2),
+            Some(Target::at_most(1.55))
         );
+        assert_eq!(target("sampler sobol / independent", SimdLevel::Avx2), None);
+    }
+
+    /// Sampler goals are judged (at most their targets) only when the
+    /// must-fail control fails; otherwise the run is blind to a slow
+    /// sampler and says so.
+    #[test]
+    fn sampler_costs_are_judged_only_when_the_control_fails() {
+        let sobol = "render cost/week09 sobol / independent";
+        let halton = "render cost/week09 halton / independent";
+        let with = |control: f64| {
+            let ratios = [
+                ratio(sobol, 1.10),
+                ratio(halton, 1.60),
+                ratio(RENDER_COST_CONTROL.0, control),
+            ];
+            goals(&ratios, &[])
+        };
+        let g = with(1.45);
+        assert_eq!(g[0].verdict, Verdict::Pass);
+        assert!(g[0].at_most);
+        assert_eq!(g[1].verdict, Verdict::Fail);
+        assert!(g[2].control);
+        assert_eq!(g[2].verdict, Verdict::Fail);
+        let g = with(1.05);
+        assert!(matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("control passed")));
+        assert!(matches!(&g[1].verdict, Verdict::NotJudged(_)));
+        assert_eq!(g[2].verdict, Verdict::Pass);
+        let g = goals(&[ratio(sobol, 1.0)], &[]);
+        assert!(matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("did not run")));
+        // The table says what a control's verdict means.
+        let report = Report {
+            version: "v".into(),
+            simd: "s".into(),
+            cpu: "c".into(),
+            cpus: 2,
+            repetitions: 1,
+            figures: vec![],
+            ratios: vec![],
+            effective_cores: vec![],
+            goals: with(1.45),
+        };
+        let t = table(&report);
+        assert!(t.contains("(target ≤ 1.15x)  PASS"), "{t}");
+        assert!(t.contains("FAIL, as this must-fail control must"), "{t}");
     }
 }

@@ -2,8 +2,10 @@
 //!
 //! - **sampling**: samples/s of every mapping (on precomputed `u`), of the
 //!   disk and sphere by analytic maps vs the course's rejection loops (each
-//!   drawing from a PCG32 inside the timed loop), and pixel samples/s of
-//!   each sampler along a depth-2 path's dimensions;
+//!   drawing from a PCG32 inside the timed loop), pixel samples/s of
+//!   each sampler along a depth-2 path's dimensions (reported), and what a
+//!   `week09` render costs with each sampler against the independent one
+//!   (judged), beside a must-fail control (`Slowed`);
 //! - **intersection**: rays/s and ray–sphere tests/s, scalar vs 1×8 vs
 //!   packet, on the course (4 spheres) and cover (485) layouts, coherent
 //!   camera rays and incoherent random rays, closest hit and shadow rays;
@@ -28,7 +30,8 @@ pub(crate) mod harness;
 mod suite;
 
 pub use harness::{
-    Figure, Goal, Group, MIN_JUDGED_CORES, Options, PACKET_TARGET, Ratio, Report, Stat, Verdict,
-    cpu_model, process_cpu_seconds, table, target,
+    Figure, Goal, Group, MIN_JUDGED_CORES, Options, PACKET_TARGET, RENDER_COST,
+    RENDER_COST_CONTROL, RENDER_COST_TARGETS, Ratio, Report, Stat, Target, Verdict, cpu_model,
+    process_cpu_seconds, table, target,
 };
 pub use suite::{COMPARISONS, run_suite};

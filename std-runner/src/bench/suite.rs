@@ -8,11 +8,14 @@ use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
 use strata::{Halton, Independent, Sobol, Stratified, UniformGrid, ZSobol};
 
-use crate::render::{Job, run};
+use crate::render::{Job, run, run_with_sampler};
 use crate::scenes::{SceneBuffers, built_in};
 use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
 
-use super::harness::{Contender, Done, Group, Options, Report, Suite, contender, cpu_model, goals};
+use super::harness::{
+    Contender, Done, Group, Options, RENDER_COST, Ratios, Report, Suite, contender, cpu_model,
+    goals,
+};
 
 fn uniforms(n: usize) -> Vec<Vec2> {
     let mut rng = Pcg32::new(7, STREAM);
@@ -66,7 +69,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
             a + mapping::sample_polar_disk(u).extend(0.0)
         }))
     }));
-    s.compare("sampling", "mapping", "samples", cs, false)?;
+    s.compare("sampling", "mapping", "samples", cs, Ratios::None)?;
 
     let rng = std::cell::RefCell::new(Pcg32::new(1, STREAM));
     let draw = |f: &dyn Fn(&mut Pcg32) -> Vec3| {
@@ -89,7 +92,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
                 draw(&|r| rejection::rejection_unit_disk(r).extend(0.0))
             }),
         ],
-        true,
+        Ratios::Rate,
     )?;
     s.compare(
         "sampling",
@@ -103,7 +106,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
                 draw(&|r| rejection::rejection_unit_sphere(r))
             }),
         ],
-        true,
+        Ratios::Rate,
     )?;
     s.compare(
         "sampling",
@@ -117,7 +120,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
                 draw(&|r| rejection::rejection_cosine_hemisphere(r))
             }),
         ],
-        true,
+        Ratios::Rate,
     )?;
 
     s.compare(
@@ -132,7 +135,7 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
                 draw(&|r| rejection::rejection_uniform_hemisphere(r))
             }),
         ],
-        true,
+        Ratios::Rate,
     )?;
 
     const SPP: u32 = 16;
@@ -168,9 +171,90 @@ fn sampling(s: &mut Suite<'_>) -> Result<()> {
                 sampler_pattern(&mut zs, SPP).to_bits() as u64
             }),
         ],
-        true,
+        Ratios::Rate,
     )?;
+    render_cost(s)
+}
+
+/// What a render costs with each sampler, against the independent one:
+/// [`RENDER_COST`] (`week09`, 160 × 90, 16 spp, depth 5, one thread),
+/// timed by the render, with the must-fail control (the independent
+/// sampler slowed on purpose, [`Slowed`]) last.
+fn render_cost(s: &mut Suite<'_>) -> Result<()> {
+    const SPP: u32 = 16;
+    let scene = built_in("week09").ok_or_else(|| anyhow::anyhow!("no built-in scene `week09`"))?;
+    let job = |sampler| Job {
+        max_depth: 5,
+        sampler,
+        threads: 1,
+        ..Job::new(&scene, 160, 90, SPP)
+    };
+    let paths = (160 * 90 * SPP) as f64;
+    let seconds = |r: Result<crate::render::Rendered>| Ok(Done::Seconds(r?.wall.as_secs_f64()));
+    let mut cs: Vec<Contender<'_>> = crate::render::SamplerKind::ALL
+        .into_iter()
+        .map(|kind| {
+            let j = job(kind);
+            Contender {
+                name: kind.name().into(),
+                units: paths,
+                work: Box::new(move || seconds(run(&j, &|_| {}))),
+            }
+        })
+        .collect();
+    let j = job(crate::render::SamplerKind::Independent);
+    let slowed = Slowed(Independent::new(SPP, j.seed).expect("spp > 0"));
+    cs.push(Contender {
+        name: "slowed control".into(),
+        units: paths,
+        work: Box::new(move || seconds(run_with_sampler(&j, slowed.clone()))),
+    });
+    s.compare("sampling", RENDER_COST, "camera paths", cs, Ratios::Cost)?;
     Ok(())
+}
+
+/// Rounds of busy work [`Slowed`] adds to every value it draws: enough
+/// that a `week09` render with it costs at least 1.3 times the
+/// independent sampler's (by instruction counts).
+pub const SLOWED_ROUNDS: u32 = 14;
+
+/// The independent sampler with [`SLOWED_ROUNDS`] rounds of a
+/// multiply–xorshift hash added to every value drawn: the same values,
+/// a dearer sampler. The must-fail control of the render-cost goals.
+#[derive(Clone, Debug)]
+pub struct Slowed(pub Independent);
+
+impl Slowed {
+    #[inline(never)]
+    fn burn() {
+        let mut x = std::hint::black_box(0x9e37_79b9_7f4a_7c15u64);
+        for _ in 0..SLOWED_ROUNDS {
+            x ^= x >> 29;
+            x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        }
+        std::hint::black_box(x);
+    }
+}
+
+impl strata::Sampler for Slowed {
+    fn samples_per_pixel(&self) -> u32 {
+        self.0.samples_per_pixel()
+    }
+    fn start_pixel_sample(&mut self, pixel: glam::UVec2, index: u32) {
+        self.0.start_pixel_sample(pixel, index);
+    }
+    fn pixel_2d(&mut self) -> Vec2 {
+        Slowed::burn();
+        self.0.pixel_2d()
+    }
+    fn next_1d(&mut self) -> f32 {
+        Slowed::burn();
+        self.0.next_1d()
+    }
+    fn next_2d(&mut self) -> Vec2 {
+        Slowed::burn();
+        self.0.next_2d()
+    }
 }
 
 fn intersection(s: &mut Suite<'_>) -> Result<()> {
@@ -208,7 +292,7 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
                         .sum()
                 }),
             ],
-            true,
+            Ratios::Rate,
         )?;
         let shadows = shadow_rays(spheres, rays, w.light);
         let shadow_packets: Vec<RayPacket8> =
@@ -233,7 +317,7 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
                         .sum()
                 }),
             ],
-            true,
+            Ratios::Rate,
         )?;
         // Closest-hit rays test every sphere: tests/s = rays/s × spheres.
         for f in &mut s.figures[first..first + 3] {
@@ -324,7 +408,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     })
                 }),
             ],
-            true,
+            Ratios::Rate,
         )?;
         s.compare(
             "bvh",
@@ -341,7 +425,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                         .count() as u64
                 }),
             ],
-            true,
+            Ratios::Rate,
         )?;
     }
     // Build time of 10⁶ spheres (the random layout, scaled up).
@@ -367,7 +451,7 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
             Bvh::build(&million, &mut nodes, &mut lanes, &mut ids)
                 .map_or(0, |b| b.node_count() as u64)
         })],
-        false,
+        Ratios::None,
     )?;
     Ok(())
 }
@@ -404,7 +488,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             &format!("render/{name}"),
             "camera paths",
             vec![render(1), render(2)],
-            true,
+            Ratios::Rate,
         )?;
         if let Some(c) = cores[1] {
             s.effective_cores
@@ -439,7 +523,7 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
             render("2 threads, brute force", crate::scenes::BvhMode::Off),
             render("2 threads", crate::scenes::BvhMode::Auto),
         ],
-        true,
+        Ratios::Rate,
     )?;
     Ok(())
 }
