@@ -72,7 +72,9 @@ pub const SYNC_SECONDS: u64 = 30;
 /// setting): `after:N` aborts the process once the Nth tile of this run is
 /// appended, `writing:N` halfway through appending it (as a kill would);
 /// `hold:N` holds every append after the Nth until [`STOP`] is set, so a
-/// test's signal finds the render running whatever the machine's speed.
+/// test's signal finds the render running whatever the machine's speed;
+/// `stuck:N` holds them for good (a tile that never ends), so a second
+/// signal finds it still running.
 pub const TEST_HOOK_VAR: &str = "STRATA_TEST_HOOK";
 
 /// Set by the first SIGINT or SIGTERM of a checkpointed render (the
@@ -162,6 +164,7 @@ enum TestHook {
     After(u64),
     Writing(u64),
     Hold(u64),
+    Stuck(u64),
 }
 
 impl Checkpoint {
@@ -242,14 +245,21 @@ impl Checkpoint {
     pub fn append(&self, tile: &TileFilm) -> Result<()> {
         let record = encode_record(self.id, tile);
         let mut a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(TestHook::Hold(n)) = self.hook
-            && a.appended >= n
-        {
-            drop(a);
-            while !STOP.load(Ordering::SeqCst) {
-                std::thread::sleep(Duration::from_millis(5));
+        match self.hook {
+            Some(TestHook::Hold(n)) if a.appended >= n => {
+                drop(a);
+                while !STOP.load(Ordering::SeqCst) {
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
             }
-            a = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+            Some(TestHook::Stuck(n)) if a.appended >= n => {
+                drop(a);
+                loop {
+                    std::thread::sleep(Duration::from_millis(50));
+                }
+            }
+            _ => {}
         }
         if a.failed {
             bail!("the checkpoint `{}` failed earlier", self.path.display());
@@ -301,11 +311,12 @@ fn test_hook() -> Result<Option<TestHook>> {
         Some(("after", n)) => n.parse().ok().map(TestHook::After),
         Some(("writing", n)) => n.parse().ok().map(TestHook::Writing),
         Some(("hold", n)) => n.parse().ok().map(TestHook::Hold),
+        Some(("stuck", n)) => n.parse().ok().map(TestHook::Stuck),
         _ => None,
     };
     match parsed {
         Some(a) => Ok(Some(a)),
-        None => bail!("{TEST_HOOK_VAR}=`{v}`: use after:N, writing:N or hold:N"),
+        None => bail!("{TEST_HOOK_VAR}=`{v}`: use after:N, writing:N, hold:N or stuck:N"),
     }
 }
 

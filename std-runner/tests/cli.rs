@@ -608,6 +608,23 @@ fn scene_file_messages_blame_the_right_key() {
 
 /// Help texts say only what a user can act on: every built-in scene, no
 /// source-code links, no files outside the repository.
+/// `strata --help` says what `render` writes and that it resumes.
+#[test]
+fn help_names_every_output_of_render() {
+    let out = ok(Path::new("."), &["--help"]);
+    let line = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("render"))
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(
+        line.contains("PNG")
+            && line.contains("EXR")
+            && line.contains(".film")
+            && line.contains("--resume"),
+        "{line}"
+    );
+}
+
 #[test]
 fn help_texts_are_self_contained() {
     let dir = tempfile::tempdir().unwrap();
@@ -642,7 +659,10 @@ fn bad_flags_are_refused_before_work() {
             vec!["render", "--scene", "nonesuch"],
             "unknown scene `nonesuch`",
         ),
-        (vec!["render", "--scene", "missing.toml"], "missing.toml"),
+        (
+            vec!["render", "--scene", "missing.toml"],
+            "missing.toml: cannot read the scene file",
+        ),
         (vec!["render", "-o", "image.jpg"], ".png or .exr"),
         (
             vec!["render", "-o", "no/such/dir/x.png"],

@@ -732,3 +732,83 @@ fn temporary_files_of_killed_writes_are_removed() {
     want.sort();
     assert_eq!(names(d), want);
 }
+
+/// A second Ctrl-C quits at once and says the checkpoint keeps the
+/// finished tiles (a tile held for good by the `stuck` hook keeps the
+/// render running past the first signal, whatever the machine's speed).
+#[test]
+fn a_second_signal_quits_and_names_the_checkpoint() {
+    use std::io::{BufRead, Read};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args([
+            "render", "--scene", "cover", "--width", "64", "--spp", "1", "--tile", "16", "-o",
+            "c.png",
+        ])
+        .current_dir(d)
+        .env(HOOK, "stuck:1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = d.join("c.png.checkpoint");
+    let mut polls = 0;
+    while !checkpoint.exists() || recorded(&checkpoint) == 0 {
+        polls += 1;
+        if polls == 60_000 || child.try_wait().unwrap().is_some() {
+            // Not left stuck forever.
+            child.kill().ok();
+            panic!("no tile was checkpointed while the render ran");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let signal = |child: &std::process::Child| {
+        let kill = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+    };
+    signal(&child);
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    // The first signal is taken: its line, then the second.
+    while !seen.contains("stopping: finishing the tiles in flight") {
+        let mut line = String::new();
+        assert!(err.read_line(&mut line).unwrap() > 0, "{seen}");
+        seen.push_str(&line);
+    }
+    signal(&child);
+    err.read_to_string(&mut seen).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{seen}");
+    assert!(
+        seen.contains("quitting: the tiles finished so far are kept in `c.png.checkpoint`")
+            && seen.contains("strata render --resume c.png.checkpoint"),
+        "{seen}"
+    );
+    assert_eq!(names(d), ["c.png.checkpoint"]);
+}
+
+/// A checkpoint that holds every tile (a kill after the last one, before
+/// the output was written) resumes to the output and says nothing was
+/// left, not a speed of 0 samples/s.
+#[test]
+fn a_resume_with_nothing_left_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 32 x 18 in tiles of 16: 4 tiles.
+    let args = [
+        "render", "--scene", "week09", "--width", "32", "--spp", "1", "--tile", "16", "-o", "w.png",
+    ];
+    assert_eq!(strata(d, &args, Some("after:4")).status.signal(), Some(6));
+    assert_eq!(recorded(&d.join("w.png.checkpoint")), 4);
+    let out = ok(d, &["render", "--resume", "w.png.checkpoint"]);
+    assert!(
+        out.contains("nothing was left to render: every tile came from the checkpoint"),
+        "{out}"
+    );
+    assert!(!out.contains("samples/s"), "{out}");
+    assert_eq!(names(d), ["w.png"]);
+}
