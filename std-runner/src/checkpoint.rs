@@ -181,8 +181,13 @@ impl Checkpoint {
         }
         let id = crate::hash::fnv1a(head.as_bytes());
         head.push_str(&format!("{HEAD_CHECKSUM}{id:016x}\n\n"));
-        write_atomic(path, |tmp| write_file(tmp, head.as_bytes()))
-            .with_context(|| format!("cannot write the checkpoint `{}`", path.display()))?;
+        write_atomic(path, |tmp| write_file(tmp, head.as_bytes())).with_context(|| {
+            format!(
+                "cannot write the checkpoint `{}` (give --checkpoint FILE on a disk with room, or \
+                 --no-checkpoint to render without one)",
+                path.display()
+            )
+        })?;
         // A file that cannot be opened for tiles holds none: not left.
         Checkpoint::open_at(path, head.len() as u64, id, true).inspect_err(|_| {
             std::fs::remove_file(path).ok();
@@ -336,22 +341,27 @@ fn encode_record(id: u64, tile: &TileFilm) -> Vec<u8> {
     out
 }
 
-/// Reads a checkpoint: its header (checked against its checksum), and its
-/// whole records up to the first torn one; paths kept relative are joined
-/// to the checkpoint's directory. Errors name the file.
+/// Reads a checkpoint's header (at most [`MAX_HEADER_BYTES`] of it,
+/// checked against its checksum before any of it is used); paths kept
+/// relative are joined to the checkpoint's directory. Its tiles are read
+/// by [`Saved::read_tiles`], once the job they are of is known. Errors
+/// name the file.
 pub fn read(path: &Path) -> Result<Saved> {
     let name = || format!("checkpoint `{}`", path.display());
-    let mut bytes = Vec::new();
+    let cannot = || format!("cannot read the checkpoint `{}`", path.display());
+    let mut head = Vec::new();
     File::open(path)
-        .and_then(|mut f| f.read_to_end(&mut bytes))
-        .with_context(|| format!("cannot read the checkpoint `{}`", path.display()))?;
-    let mut saved = parse(&bytes).with_context(name)?;
+        .and_then(|f| f.take(MAX_HEADER_BYTES as u64 + 2).read_to_end(&mut head))
+        .with_context(cannot)?;
+    let mut saved = parse_header(&head).with_context(name)?;
     let dir = directory_of(path).with_context(name)?;
-    saved.args = paths_from(&saved.args, &dir, |p, d| d.join(p));
+    saved.args = paths_from(&saved.args, &dir, resolve);
     Ok(saved)
 }
 
-fn parse(bytes: &[u8]) -> Result<Saved> {
+/// The header of a checkpoint's first bytes: its flags and identity, its
+/// render's id, and where its records start.
+fn parse_header(bytes: &[u8]) -> Result<Saved> {
     let first = bytes
         .iter()
         .position(|&b| b == b'\n')
@@ -403,65 +413,122 @@ fn parse(bytes: &[u8]) -> Result<Saved> {
         }
     }
     let args = args.context("header has no `args`")?;
-    let mut at = end + 2;
-    let mut tiles = Vec::new();
-    while let Some((tile, len)) = parse_record(&bytes[at..]) {
-        if tile.0 != id {
-            bail!(
-                "its record of tile {} belongs to another render (its id is {:016x}, the \
-                 header's {id:016x}): the file is damaged; delete it to render again",
-                tile.1.0,
-                tile.0
-            );
-        }
-        tiles.push(tile.1);
-        at += len;
-    }
     Ok(Saved {
         args,
         identity,
-        tiles,
-        dropped_bytes: (bytes.len() - at) as u64,
-        end: at as u64,
+        tiles: Vec::new(),
+        dropped_bytes: 0,
+        end: (end + 2) as u64,
         id,
     })
+}
+
+/// The fields of a record before its pixels.
+struct RecordHead {
+    id: u64,
+    index: u32,
+    count: u32,
+    stats: TileStats,
+}
+
+impl RecordHead {
+    /// The head at the start of `b` ([`RECORD_HEAD`] bytes), if it starts
+    /// with the record tag.
+    fn parse(b: &[u8; RECORD_HEAD]) -> Option<RecordHead> {
+        let u32_at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+        let u64_at = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().unwrap());
+        (&b[..4] == b"TILE").then(|| RecordHead {
+            id: u64_at(4),
+            index: u32_at(12),
+            count: u32_at(16),
+            stats: TileStats {
+                paths: u64_at(20),
+                rays: u64_at(28),
+                shadow_rays: u64_at(36),
+            },
+        })
+    }
 }
 
 /// One whole record at the start of `b` (its render id and its tile) and
 /// its length, or `None` if it is cut off or its checksum fails (a torn
 /// append).
+#[cfg(test)]
 fn parse_record(b: &[u8]) -> Option<((u64, TileFilm), usize)> {
-    let u32_at = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
-    let u64_at = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().unwrap());
-    if b.len() < RECORD_OVERHEAD || &b[..4] != b"TILE" {
-        return None;
-    }
-    let count = u32_at(16) as usize;
-    let body = count.checked_mul(BYTES_PER_PIXEL)?;
+    let head = RecordHead::parse(b.get(..RECORD_HEAD)?.try_into().ok()?)?;
+    let body = (head.count as usize).checked_mul(BYTES_PER_PIXEL)?;
     let len = RECORD_OVERHEAD.checked_add(body)?;
-    if b.len() < len || u64_at(len - 8) != crate::hash::fnv1a(&b[..len - 8]) {
+    let sum = u64::from_le_bytes(b.get(len - 8..len)?.try_into().ok()?);
+    if sum != crate::hash::fnv1a(&b[..len - 8]) {
         return None;
     }
-    let stats = TileStats {
-        paths: u64_at(20),
-        rays: u64_at(28),
-        shadow_rays: u64_at(36),
-    };
     let pixels = decode_pixels(&b[RECORD_HEAD..RECORD_HEAD + body]);
-    Some(((u64_at(4), (u32_at(12), pixels, stats)), len))
+    Some(((head.id, (head.index, pixels, head.stats)), len))
 }
 
-/// The absolute directory a checkpoint is (or will be) in.
+/// Whether the `len` bytes of the record whose first bytes are `head`,
+/// read on from `r` a chunk at a time, are there and end in their
+/// checksum: a whole record, though not one of this render's shape.
+fn whole_record(r: &mut impl Read, head: &[u8], len: u64) -> bool {
+    let mut sum = crate::hash::Fnv::default();
+    sum.bytes(head);
+    let mut left = len - head.len() as u64 - 8;
+    let mut buf = vec![0u8; 1 << 16];
+    while left > 0 {
+        let n = left.min(buf.len() as u64) as usize;
+        if r.read_exact(&mut buf[..n]).is_err() {
+            return false;
+        }
+        sum.bytes(&buf[..n]);
+        left -= n as u64;
+    }
+    let mut tail = [0u8; 8];
+    r.read_exact(&mut tail).is_ok() && u64::from_le_bytes(tail) == sum.finish()
+}
+
+/// The directory a checkpoint is (or will be) in, symbolic links and `..`
+/// resolved (it exists: the checkpoint is made in it).
 fn directory_of(path: &Path) -> Result<PathBuf> {
     let abs = std::path::absolute(path)
         .with_context(|| format!("cannot resolve `{}`", path.display()))?;
-    Ok(abs.parent().map(Path::to_path_buf).unwrap_or(abs))
+    let dir = abs.parent().unwrap_or(&abs);
+    dir.canonicalize()
+        .with_context(|| format!("cannot resolve `{}`", dir.display()))
 }
 
-/// `p` relative to `dir` if it lies below it, else as it is.
+/// `p` with symbolic links and `..` resolved, as far as it exists (an
+/// output need not exist yet: its directory does).
+fn real_path(p: &Path) -> PathBuf {
+    if let Ok(real) = p.canonicalize() {
+        return real;
+    }
+    match (p.parent(), p.file_name()) {
+        (Some(d), Some(name)) => d
+            .canonicalize()
+            .map_or_else(|_| p.to_path_buf(), |d| d.join(name)),
+        _ => p.to_path_buf(),
+    }
+}
+
+/// How a checkpoint in `dir` (resolved) keeps the absolute path `p`:
+/// `./REST` if, links and `..` resolved, it lies below `dir` (so a moved
+/// job directory takes its files along; the `./` keeps a scene file apart
+/// from a built-in scene's name), else as it is.
 fn anchor(p: &Path, dir: &Path) -> PathBuf {
-    p.strip_prefix(dir)
-        .map_or_else(|_| p.to_path_buf(), Path::to_path_buf)
+    match real_path(p).strip_prefix(dir) {
+        Ok(rest) if !rest.as_os_str().is_empty() => Path::new(".").join(rest),
+        _ => p.to_path_buf(),
+    }
+}
+
+/// A kept path where the checkpoint in `dir` is now: a relative one below
+/// `dir`, an absolute one as it is.
+fn resolve(p: &Path, dir: &Path) -> PathBuf {
+    let rest: PathBuf = p
+        .components()
+        .filter(|c| *c != std::path::Component::CurDir)
+        .collect();
+    dir.join(rest)
 }
 
 /// `args` with every path (the scene file's, the outputs') mapped by
@@ -482,11 +549,8 @@ fn paths_from(args: &RenderArgs, dir: &Path, f: impl Fn(&Path, &Path) -> PathBuf
 }
 
 impl Saved {
-    /// Checks the saved tiles against the job a resumed render makes of
-    /// the saved flags: the same render (else the first field that
-    /// differs is named), each tile a tile of it, once, with a film of its
-    /// size whose pixels took what a film's must (the tile's pixels the
-    /// range's samples, a splat margin's none).
+    /// Checks that the job a resumed render makes of the saved flags is
+    /// the saved render (else the first field that differs is named).
     pub fn check(&self, job: &Job<'_>) -> Result<()> {
         let now = identity(job);
         for (k, v) in &now {
@@ -509,26 +573,117 @@ impl Saved {
         if self.identity.len() != now.len() {
             bail!("its header has fields this build does not write");
         }
+        Ok(())
+    }
+
+    /// Reads the records of the checkpoint at `path` (the job [`check`]ed
+    /// first): each whole record of this render, up to the first torn
+    /// one, whose bytes are dropped. Nothing is read that the job's tiles
+    /// could not hold: a record's head must name a tile of the job, once,
+    /// with its film's size, before its pixels are read. A whole record
+    /// that does not (another render's, or of another shape), and one
+    /// whose pixels or counts a `.film` would refuse, is an error.
+    ///
+    /// [`check`]: Saved::check
+    pub fn read_tiles(&mut self, path: &Path, job: &Job<'_>) -> Result<()> {
+        let cannot = || format!("cannot read the checkpoint `{}`", path.display());
+        let file = File::open(path).with_context(cannot)?;
+        let len = file.metadata().with_context(cannot)?.len();
+        let mut r = std::io::BufReader::new(file);
+        r.seek(SeekFrom::Start(self.end)).with_context(cannot)?;
         let tiles = job_tiles(job);
         let mut seen = vec![false; tiles.len()];
-        for (i, pixels, _) in &self.tiles {
-            let i = *i as usize;
-            if i >= tiles.len() || seen[i] {
-                bail!("it records tile {i} twice or out of range");
+        let mut at = self.end;
+        loop {
+            let mut head = [0u8; RECORD_HEAD];
+            if r.read_exact(&mut head).is_err() {
+                break;
+            }
+            let Some(h) = RecordHead::parse(&head) else {
+                break;
+            };
+            let i = h.index as usize;
+            let want = tiles.get(i).map(|&t| tile_film_len(job, t)).transpose()?;
+            let body = h.count as u64 * BYTES_PER_PIXEL as u64;
+            let record = RECORD_OVERHEAD as u64 + body;
+            let twice = seen.get(i).copied().unwrap_or(false);
+            if h.id != self.id || want != Some(h.count as usize) || twice {
+                // Torn (or damaged), or a whole record that is not one of
+                // this render's tiles: only the latter is an error.
+                if record > len - at || !whole_record(&mut r, &head, record) {
+                    break;
+                }
+                if h.id != self.id {
+                    bail!(
+                        "its record of tile {i} belongs to another render (its id is {:016x}, \
+                         the header's {:016x}): the file is damaged; delete it to render again",
+                        h.id,
+                        self.id
+                    );
+                }
+                bail!(
+                    "its record of tile {i} ({} pixels) is no tile of this render, or a tile \
+                     recorded twice: the file is damaged; delete it to render again",
+                    h.count
+                );
+            }
+            let mut rest = vec![0u8; body as usize + 8];
+            if r.read_exact(&mut rest).is_err() {
+                break;
+            }
+            let mut sum = crate::hash::Fnv::default();
+            sum.bytes(&head);
+            sum.bytes(&rest[..body as usize]);
+            if sum.finish().to_le_bytes() != rest[body as usize..] {
+                break;
             }
             seen[i] = true;
-            if pixels.len() != tile_film_len(job, tiles[i])? {
-                bail!("its tile {i} has {} pixels, not its tile's", pixels.len());
-            }
-            check_tile_counts(job, tiles[i], pixels)
+            let pixels = decode_pixels(&rest[..body as usize]);
+            check_tile(job, tiles[i], &pixels, &h.stats)
                 .with_context(|| format!("its record of tile {i} is damaged"))?;
+            self.tiles.push((h.index, pixels, h.stats));
+            at += record;
         }
+        self.dropped_bytes = len - at;
+        self.end = at;
         Ok(())
     }
 }
 
-/// The sample counts of a tile's film (the tile, and for a splatted
-/// filter its margin a side): as a `.film` body's are checked.
+/// A tile's record: the sample counts of its film (the tile, and for a
+/// splatted filter its margin a side), as a `.film` body's are checked,
+/// and its counts of what it traced (a path per sample taken, at most
+/// `max_depth` rays and shadow rays a path).
+fn check_tile(job: &Job<'_>, tile: Tile, pixels: &[PixelSum], stats: &TileStats) -> Result<()> {
+    check_tile_counts(job, tile, pixels)?;
+    let m = match job.splats() {
+        true => job.filter.splat_margin(),
+        false => 0,
+    };
+    let pw = tile.width + 2 * m;
+    let taken: u64 = pixels
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| {
+            let (x, y) = (*k as u32 % pw, *k as u32 / pw);
+            (m..m + tile.width).contains(&x) && (m..m + tile.height).contains(&y)
+        })
+        .map(|(_, p)| p.taken() as u64)
+        .sum();
+    let most = taken.saturating_mul(job.max_depth as u64);
+    if stats.paths != taken || stats.rays > most || stats.shadow_rays > most {
+        bail!(
+            "it counts {} paths, {} rays and {} shadow rays for {taken} samples of depth {}",
+            stats.paths,
+            stats.rays,
+            stats.shadow_rays,
+            job.max_depth
+        );
+    }
+    Ok(())
+}
+
+/// The sample counts of a tile's film: as a `.film` body's are checked.
 fn check_tile_counts(job: &Job<'_>, tile: Tile, pixels: &[PixelSum]) -> Result<()> {
     let m = match job.splats() {
         true => job.filter.splat_margin() as i64,
@@ -611,26 +766,25 @@ mod tests {
     }
 
     #[test]
-    fn a_damaged_header_or_another_renders_record_is_refused() {
+    fn a_damaged_header_is_refused_before_use() {
         let (_, id) = file(&[]);
         let (good, _) = file(&[encode_record(id, &record(0, 3))]);
-        let saved = parse(&good).unwrap();
-        assert_eq!(saved.tiles, [record(0, 3)]);
-        assert_eq!(saved.dropped_bytes, 0);
-        // Every flipped bit of the header is found before it is used.
+        let saved = parse_header(&good).unwrap();
+        assert_eq!(saved.id, id);
         let head_len = good.windows(2).position(|w| w == b"\n\n").unwrap();
+        assert_eq!(saved.end, head_len as u64 + 2);
+        // Every flipped bit of the header is found before it is used.
         for at in MAGIC.len() + 1..head_len {
             let mut bad = good.clone();
             bad[at] ^= 0x01;
-            let e = parse(&bad).err().map(|e| e.to_string()).unwrap_or_default();
+            let e = parse_header(&bad)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default();
             assert!(e.contains("damaged"), "byte {at}: {e}");
         }
-        // A whole record of another render: refused, not merged.
-        let (other, _) = file(&[encode_record(id ^ 1, &record(0, 3))]);
-        let e = parse(&other).err().unwrap().to_string();
-        assert!(e.contains("another render"), "{e}");
         // The old format is named with this one.
-        let e = parse(b"strata-checkpoint 1\nargs={}\n\n")
+        let e = parse_header(b"strata-checkpoint 1\nargs={}\n\n")
             .err()
             .unwrap()
             .to_string();
@@ -643,36 +797,44 @@ mod tests {
     #[test]
     fn paths_below_the_checkpoint_are_kept_relative() {
         use clap::Parser;
+        let root = tempfile::tempdir().unwrap();
+        let root = root.path().canonicalize().unwrap();
+        let job = root.join("job");
+        std::fs::create_dir_all(job.join("out")).unwrap();
+        std::fs::write(job.join("s.toml"), "").unwrap();
+        // `up/../job` is `job`; `job/../elsewhere` is not below it.
+        let up = job.join("out/..");
         let cli = crate::cli::Cli::try_parse_from([
-            "strata",
-            "render",
-            "--scene",
-            "/a/job/s.toml",
-            "-o",
-            "/a/job/out/x.png",
-            "--stats",
-            "/elsewhere/s.json",
+            "strata".into(),
+            "render".into(),
+            "--scene".into(),
+            up.join("s.toml").into_os_string(),
+            "-o".into(),
+            job.join("out/x.png").into_os_string(),
+            "--stats".into(),
+            job.join("../s.json").into_os_string(),
         ])
         .unwrap();
         let Some(crate::cli::Command::Render(a)) = cli.command else {
             unreachable!()
         };
-        let kept = paths_from(&a, Path::new("/a/job"), anchor);
-        assert_eq!(kept.scene, "s.toml");
-        assert_eq!(kept.output.as_deref(), Some(Path::new("out/x.png")));
-        assert_eq!(kept.stats.as_deref(), Some(Path::new("/elsewhere/s.json")));
+        let kept = paths_from(&a, &job, anchor);
+        assert_eq!(kept.scene, "./s.toml");
+        assert_eq!(kept.output.as_deref(), Some(Path::new("./out/x.png")));
+        assert_eq!(kept.stats.as_deref(), Some(job.join("../s.json").as_path()));
         // Moved to /b/job: resolved there, the outside path kept.
-        let back = paths_from(&kept, Path::new("/b/job"), |p, d| d.join(p));
+        let back = paths_from(&kept, Path::new("/b/job"), resolve);
         assert_eq!(back.scene, "/b/job/s.toml");
         assert_eq!(back.output.as_deref(), Some(Path::new("/b/job/out/x.png")));
-        assert_eq!(back.stats.as_deref(), Some(Path::new("/elsewhere/s.json")));
-        // A built-in scene is a name, not a path.
+        assert_eq!(back.stats, kept.stats);
+        // A built-in scene is a name, not a path; a scene file named like
+        // one is kept as a path (`./cover`), never read as the built-in.
         let mut b = a.clone();
         b.scene = "cover".into();
-        assert_eq!(
-            paths_from(&b, Path::new("/b"), |p, d| d.join(p)).scene,
-            "cover"
-        );
+        assert_eq!(paths_from(&b, Path::new("/b"), resolve).scene, "cover");
+        std::fs::write(job.join("cover"), "").unwrap();
+        b.scene = job.join("cover").to_string_lossy().into_owned();
+        assert_eq!(paths_from(&b, &job, anchor).scene, "./cover");
     }
 
     #[test]

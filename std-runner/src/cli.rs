@@ -519,10 +519,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_checkpoint: bool,
     /// Finish an interrupted render from its checkpoint: the flags, scene
-    /// and output are the checkpoint's (no other flag is taken but
-    /// --threads, which never changes the image); tiles it holds are not
-    /// rendered again, and the output is byte for byte the uninterrupted
-    /// render's.
+    /// and output are the checkpoint's, but for those that never change
+    /// the image (--threads, -o, --stats, --spp-map, and --scene for a
+    /// scene file that moved); tiles it holds are not rendered again, and
+    /// the output is byte for byte the uninterrupted render's.
     #[arg(long, value_name = "CHECKPOINT")]
     #[serde(skip)]
     pub resume: Option<PathBuf>,
@@ -609,10 +609,7 @@ fn crop_window(s: &str) -> Result<[f32; 4], String> {
 
 /// Parses `A..B` sample indices (checked by the validation).
 fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
-    let parsed = s
-        .split_once("..")
-        .and_then(|(a, b)| Some(a.trim().parse().ok()?..b.trim().parse().ok()?));
-    parsed.ok_or_else(|| format!("`{s}` is not a sample range A..B"))
+    crate::film::parse_range(s).ok_or_else(|| format!("`{s}` is not a sample range A..B"))
 }
 
 /// `strata merge` flags.

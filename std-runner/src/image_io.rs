@@ -127,16 +127,44 @@ fn extension(path: &Path) -> Option<String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
-/// Removes the temporary files of writes of `path` by processes that are
-/// gone: `.NAME.strata-tmp-PID` beside it whose PID no running process
-/// has (a process killed while it wrote `path`). A live process's file is
-/// left alone (it may be writing now), and so is every file where the
-/// system cannot say which processes run (no `/proc`).
-pub fn remove_stale_temps(path: &Path) {
-    let proc = Path::new("/proc");
-    if !proc.join("self").exists() {
-        return;
+/// `dir/.name.strata-tmp-PID` beside the target.
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.strata-tmp-{}", std::process::id()))
+}
+
+/// Writes through `write` into a temporary file and renames it to `path`;
+/// on any error the temporary file is removed and `path` is untouched.
+/// The temporary file is locked (`flock`) while it is written, and
+/// temporary files of earlier writes of `path` that no process holds (a
+/// process killed while writing) are removed first
+/// ([`remove_stale_temps`]).
+pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    remove_stale_temps(path);
+    let tmp = temp_path(path);
+    // Held until the rename: a live writer's file is never taken for a
+    // stale one. (A file system without locks cannot have this: go on.)
+    let _held = std::fs::File::create(&tmp)
+        .ok()
+        .filter(|f| f.lock().is_ok());
+    let result = write(&tmp).and_then(|()| {
+        std::fs::rename(&tmp, path)
+            .with_context(|| format!("cannot move output into `{}`", path.display()))
+    });
+    if result.is_err() {
+        std::fs::remove_file(&tmp).ok();
     }
+    result
+}
+
+/// Removes the temporary files that writes of `path` left behind:
+/// `.NAME.strata-tmp-*` beside it whose lock no process holds (its writer
+/// was killed; [`write_atomic`] holds the lock while it writes, on any
+/// host that shares the file system's locks). A file whose lock is held,
+/// or whose lock cannot be tried, is left alone.
+pub fn remove_stale_temps(path: &Path) {
     let Some(name) = path.file_name() else {
         return;
     };
@@ -148,44 +176,18 @@ pub fn remove_stale_temps(path: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
+    let own = temp_path(path);
     for entry in entries.flatten() {
-        let file = entry.file_name();
-        let pid = file
+        let stale = entry
+            .file_name()
             .to_str()
-            .and_then(|f| f.strip_prefix(&prefix))
-            .and_then(|p| p.parse::<u32>().ok());
-        if let Some(pid) = pid
-            && pid != std::process::id()
-            && !proc.join(pid.to_string()).exists()
-        {
+            .is_some_and(|f| f.starts_with(&prefix))
+            && entry.path() != own
+            && std::fs::File::open(entry.path()).is_ok_and(|f| f.try_lock().is_ok());
+        if stale {
             std::fs::remove_file(entry.path()).ok();
         }
     }
-}
-
-/// `dir/.name.strata-tmp-PID` beside the target.
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.strata-tmp-{}", std::process::id()))
-}
-
-/// Writes through `write` into a temporary file and renames it to `path`;
-/// on any error the temporary file is removed and `path` is untouched.
-/// Temporary files that earlier writes of `path` left behind (a process
-/// killed while writing) are removed first ([`remove_stale_temps`]).
-pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    remove_stale_temps(path);
-    let tmp = temp_path(path);
-    let result = write(&tmp).and_then(|()| {
-        std::fs::rename(&tmp, path)
-            .with_context(|| format!("cannot move output into `{}`", path.display()))
-    });
-    if result.is_err() {
-        std::fs::remove_file(&tmp).ok();
-    }
-    result
 }
 
 /// An image file format the renderer writes.

@@ -24,6 +24,10 @@ const _: () = assert!(MAX_SPP <= strata::sampler::MAX_STRATA_SPP);
 /// The longest path, in ray segments (`--max-depth`).
 pub const MAX_DEPTH: u32 = 10_000;
 
+/// The largest scene file, in bytes (256 MiB: some three million spheres
+/// of about 80 bytes of TOML each).
+pub const MAX_SCENE_BYTES: u64 = 256 << 20;
+
 /// The largest texture, in texels (64 Mi: 768 MiB of linear RGB).
 pub const MAX_TEXELS: u64 = 1 << 26;
 

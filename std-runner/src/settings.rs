@@ -13,6 +13,7 @@ use anyhow::{Result, bail};
 
 use crate::cli::RenderArgs;
 use crate::limits::{MAX_DEPTH, MAX_SPP, MAX_THREADS, MAX_TILE, MAX_WIDTH};
+use crate::render::SamplerKind;
 
 /// `value` of `flag` within `range`, or an error naming both.
 fn within<T: PartialOrd + std::fmt::Display>(
@@ -116,6 +117,15 @@ impl RenderArgs {
             }
             within("--samples' end", s.end, 1..=MAX_SPP)?;
         }
+        if let (Some(s), Some(spp)) = (&self.samples, self.spp)
+            && s.end > spp
+        {
+            bail!(
+                "--samples {}..{} reaches past the {spp} samples per pixel",
+                s.start,
+                s.end
+            );
+        }
         match self.adaptive {
             Some(t) => {
                 positive("--adaptive", t)?;
@@ -123,6 +133,14 @@ impl RenderArgs {
                 not_both(("--adaptive", true), ("--spp", self.spp.is_some()))?;
                 within("--min-spp", self.min_spp, 8..=MAX_SPP)?;
                 within("--max-spp", self.max_spp, 8..=MAX_SPP)?;
+                crate::commands::adaptive_settings(self.min_spp, self.max_spp, t, "--adaptive")?;
+                if self.sampler == SamplerKind::Grid {
+                    bail!(
+                        "--adaptive needs a sampler whose first samples spread over the pixel \
+                         (independent, stratified, sobol, halton, zsobol): the grid fills its \
+                         rows in order"
+                    );
+                }
             }
             None => {
                 if self.spp_map.is_some() {
@@ -133,6 +151,8 @@ impl RenderArgs {
         if let Some(r) = self.filter_radius {
             positive("--filter-radius", r)?;
         }
+        // The filter's own limits (its largest radius).
+        self.filter.filter(self.filter_radius)?;
         not_both(
             ("--checkpoint", self.checkpoint.is_some()),
             ("--no-checkpoint", self.no_checkpoint),
@@ -197,6 +217,20 @@ mod tests {
             (args(&["--adaptive", "--max-spp", "1"]), "--max-spp 1"),
             (args(&["--filter-radius", "0"]), "--filter-radius 0"),
             (args(&["--filter-radius", "nan"]), "--filter-radius NaN"),
+            (args(&["--filter-radius", "9"]), "--filter-radius 9"),
+            (args(&["--adaptive", "--min-spp", "10"]), "--min-spp 10"),
+            (
+                args(&["--adaptive", "--min-spp", "64", "--max-spp", "32"]),
+                "--max-spp 32",
+            ),
+            (
+                args(&["--adaptive", "--sampler", "grid"]),
+                "the grid fills its rows",
+            ),
+            (
+                args(&["--spp", "4", "--samples", "2..5"]),
+                "past the 4 samples",
+            ),
         ];
         for (a, want) in cases {
             let e = a.validate().unwrap_err().to_string();

@@ -606,8 +606,6 @@ fn scene_file_messages_blame_the_right_key() {
     assert!(e.contains("directory `no/such/dir` does not exist"), "{e}");
 }
 
-/// Help texts say only what a user can act on: every built-in scene, no
-/// source-code links, no files outside the repository.
 /// `strata --help` says what `render` writes and that it resumes.
 #[test]
 fn help_names_every_output_of_render() {
@@ -625,6 +623,8 @@ fn help_names_every_output_of_render() {
     );
 }
 
+/// Help texts say only what a user can act on: every built-in scene, no
+/// source-code links, no files outside the repository.
 #[test]
 fn help_texts_are_self_contained() {
     let dir = tempfile::tempdir().unwrap();
@@ -662,6 +662,10 @@ fn bad_flags_are_refused_before_work() {
         (
             vec!["render", "--scene", "missing.toml"],
             "missing.toml: cannot read the scene file",
+        ),
+        (
+            vec!["render", "--scene", "/dev/zero"],
+            "/dev/zero: larger than 256 MiB",
         ),
         (vec!["render", "-o", "image.jpg"], ".png or .exr"),
         (

@@ -68,14 +68,7 @@ impl Rng {
     }
 }
 
-fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
+use strata_runner::hash::fnv1a;
 
 /// How one case ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -287,6 +280,30 @@ fn reseal_record(b: &mut [u8], (at, len): (usize, usize)) {
     b[at + len - 8..at + len].copy_from_slice(&sum.to_le_bytes());
 }
 
+/// Recomputes a checkpoint's checksums after an edit of its header: the
+/// header's own (in formats that have one), then each record's render id
+/// and checksum, so that what lies behind the checksums is reached.
+fn reseal_checkpoint(b: &mut Vec<u8>) {
+    let Some(end) = header_end(b) else { return };
+    let head = &b[..end - 2];
+    let Some(last) = head.iter().rposition(|&c| c == b'\n').map(|i| i + 1) else {
+        return;
+    };
+    if !head[last..].starts_with(b"head_checksum=") {
+        return;
+    }
+    let id = fnv1a(&b[..last]);
+    let mut out = b[..last].to_vec();
+    out.extend_from_slice(format!("head_checksum={id:016x}\n\n").as_bytes());
+    let body = b[end..].to_vec();
+    out.extend_from_slice(&body);
+    *b = out;
+    for r in records(b) {
+        b[r.0 + 4..r.0 + 12].copy_from_slice(&id.to_le_bytes());
+        reseal_record(b, r);
+    }
+}
+
 /// Numbers and words a damaged header value may hold.
 const NUMBERS: [&str; 10] = [
     "0",
@@ -442,7 +459,14 @@ struct Tally {
 impl Tally {
     fn add(&mut self, v: Verdict, what: &str, stderr: &str) {
         *self.counts.entry(v).or_default() += 1;
-        if BAD.contains(&v) && self.examples.len() < 12 {
+        // A few of each bad kind, so a rare panic is shown beside many
+        // wrong files.
+        let shown = self
+            .examples
+            .iter()
+            .filter(|e| e.starts_with(&format!("{v:?}:")))
+            .count();
+        if BAD.contains(&v) && shown < 3 {
             let err: String = stderr
                 .lines()
                 .last()
@@ -595,7 +619,7 @@ fn checkpoint_seeds(root: &Path) -> Vec<CheckpointSeed> {
 fn checkpoint_case(seed: &CheckpointSeed, rng: &mut Rng, tally: &mut Tally) -> bool {
     let mut b = seed.checkpoint.clone();
     let recs = records(&b);
-    let what = match rng.below(6) {
+    let what = match rng.below(8) {
         0 | 1 => damage_bytes(&mut b, rng),
         2 => {
             if !edit_header_value(&mut b, rng, false) {
@@ -608,6 +632,15 @@ fn checkpoint_case(seed: &CheckpointSeed, rng: &mut Rng, tally: &mut Tally) -> b
                 return false;
             }
             "header word"
+        }
+        6 | 7 => {
+            // Behind the header's checksum: every setting's one check.
+            let word = rng.below(4) == 0;
+            if !edit_header_value(&mut b, rng, word) {
+                return false;
+            }
+            reseal_checkpoint(&mut b);
+            "header value, resealed"
         }
         4 => {
             // A pixel's sample count changed and the record resealed.

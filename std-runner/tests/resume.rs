@@ -443,11 +443,7 @@ fn a_resume_keeps_the_interrupted_runs_thread_count_unless_told() {
 fn reseal_header(b: &mut Vec<u8>) {
     let end = b.windows(2).position(|w| w == b"\n\n").unwrap();
     let line = b[..end].iter().rposition(|&c| c == b'\n').unwrap() + 1;
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for &c in &b[..line] {
-        h ^= c as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
+    let h = strata_runner::hash::fnv1a(&b[..line]);
     let tail = b[end..].to_vec();
     b.truncate(line);
     b.extend_from_slice(format!("head_checksum={h:016x}").as_bytes());
@@ -506,7 +502,7 @@ fn damaged_checkpoints_are_refused_as_damage() {
         ("0,96,10,30", "0,96,90,30"),
         ("\"tile\":16", "\"tile\":0"),
         ("\"threads\":2", "\"threads\":65535"),
-        ("\"out.png\"", "\"nut.png\""),
+        ("\"./out.png\"", "\"./nut.png\""),
         ("scene_hash=d", "scene_hash=e"),
     ] {
         let e = edit(from, to, false);
@@ -575,14 +571,7 @@ fn checkpoint_records_are_checked_like_film_bodies() {
     let other = run("1");
     let good = run("0");
     let head = good.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
-    let fnv = |b: &[u8]| {
-        let mut h = 0xcbf2_9ce4_8422_2325u64;
-        for &c in b {
-            h ^= c as u64;
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        h
-    };
+    let fnv = strata_runner::hash::fnv1a;
     // The first record: 8 × 8 pixels.
     let len = 52 + 64 * 64;
     let resume = |b: &[u8]| {
@@ -609,6 +598,16 @@ fn checkpoint_records_are_checked_like_film_bodies() {
     b.splice(head..head + len, other[head..head + len].iter().copied());
     let e = resume(&b);
     assert!(e.contains("belongs to another render"), "{e}");
+    // Counts of what the tile traced that its samples cannot have (a
+    // path count that would overflow the render's totals).
+    for (at, value) in [(20, u64::MAX), (20, 1), (28, u64::MAX), (36, 1 << 40)] {
+        let mut b = good.clone();
+        b[head + at..head + at + 8].copy_from_slice(&value.to_le_bytes());
+        let sum = fnv(&b[head..head + len - 8]);
+        b[head + len - 8..head + len].copy_from_slice(&sum.to_le_bytes());
+        let e = resume(&b);
+        assert!(e.contains("is damaged") && e.contains("paths"), "{at}: {e}");
+    }
 }
 
 /// A job directory moved elsewhere resumes where it now is (paths below
@@ -708,29 +707,33 @@ fn a_checkpoint_that_cannot_be_written_costs_only_itself() {
 }
 
 /// A write killed in its moment leaves `.NAME.strata-tmp-PID` beside its
-/// target; the next write of the same file removes those whose process is
-/// gone, and leaves a live process's alone.
+/// target; the next write of the same file removes those no process
+/// holds, and leaves alone one a live writer holds (it locks its file
+/// while it writes).
 #[test]
 fn temporary_files_of_killed_writes_are_removed() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // PIDs stop at 2^22 on Linux: this one never runs.
     let dead = ".out.film.strata-tmp-999999999";
     let dead_checkpoint = ".out.film.checkpoint.strata-tmp-999999998";
-    let live = format!(".out.film.strata-tmp-{}", std::process::id());
+    let live = ".out.film.strata-tmp-4242";
     let other = ".other.film.strata-tmp-999999999";
-    for f in [dead, dead_checkpoint, live.as_str(), other] {
+    for f in [dead, dead_checkpoint, live, other] {
         std::fs::write(d.join(f), b"cut off").unwrap();
     }
+    // A writer at work (on this host or another sharing the locks).
+    let writer = std::fs::File::open(d.join(live)).unwrap();
+    writer.lock().unwrap();
     ok(
         d,
         &[
             "render", "--scene", "cover", "--width", "16", "--spp", "1", "-o", "out.film",
         ],
     );
-    let mut want = vec![live.clone(), other.to_string(), "out.film".to_string()];
+    let mut want = vec![live.to_string(), other.to_string(), "out.film".to_string()];
     want.sort();
     assert_eq!(names(d), want);
+    drop(writer);
 }
 
 /// A second Ctrl-C quits at once and says the checkpoint keeps the
@@ -811,4 +814,134 @@ fn a_resume_with_nothing_left_says_so() {
     );
     assert!(!out.contains("samples/s"), "{out}");
     assert_eq!(names(d), ["w.png"]);
+}
+
+/// Resumed through a symbolic link, a checkpoint is the file it links to:
+/// its paths are that file's directory's, and it is that file that is
+/// finished and removed.
+#[test]
+fn a_checkpoint_resumed_through_a_link_is_the_file_it_links_to() {
+    let root = tempfile::tempdir().unwrap();
+    let job = root.path().join("job");
+    std::fs::create_dir(&job).unwrap();
+    let args = [
+        "render", "--scene", "cover", "--width", "32", "--tile", "8", "-o", "out.png",
+    ];
+    assert_eq!(
+        strata(&job, &args, Some("after:2")).status.signal(),
+        Some(6)
+    );
+    std::os::unix::fs::symlink(job.join("out.png.checkpoint"), root.path().join("c.ckpt")).unwrap();
+    ok(root.path(), &["render", "--resume", "c.ckpt"]);
+    assert_eq!(names(&job), ["out.png"]);
+    let mut top = names(root.path());
+    top.retain(|n| n != "job");
+    // The link is left, dangling: it was never the checkpoint.
+    assert_eq!(top, ["c.ckpt"]);
+}
+
+/// What is not a checkpoint is refused from its first bytes: a device
+/// that never ends, or a file of gigabytes, costs no memory.
+#[test]
+fn a_huge_or_endless_file_is_refused_from_its_first_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let big = d.join("big.checkpoint");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(3 << 30)
+        .unwrap();
+    for target in [big.to_str().unwrap(), "/dev/zero"] {
+        // Half a gigabyte of address space: far less than the file.
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 524288; exec \"$0\" \"$@\"")
+            .arg(env!("CARGO_BIN_EXE_strata"))
+            .args(["render", "--resume", target])
+            .current_dir(d)
+            .env_remove(HOOK)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{target}: {err}");
+        assert!(err.contains("not a Strata checkpoint"), "{target}: {err}");
+    }
+    // A checkpoint whose last record claims 2^32 - 1 pixels: its tiles
+    // resume, and the claim is dropped unread.
+    let args = [
+        "render", "--scene", "week09", "--width", "32", "--tile", "8", "-o", "w.png",
+    ];
+    assert_eq!(strata(d, &args, Some("after:1")).status.signal(), Some(6));
+    let path = d.join("w.png.checkpoint");
+    let mut b = bytes(&path);
+    let head = b.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let mut claim = b[head..head + 44].to_vec();
+    claim[16..20].copy_from_slice(&u32::MAX.to_le_bytes());
+    b.extend_from_slice(&claim);
+    std::fs::write(&path, &b).unwrap();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 1048576; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_strata"))
+        .args(["render", "--resume", "w.png.checkpoint"])
+        .current_dir(d)
+        .env_remove(HOOK)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("after the 1 tile it holds whole, 44 bytes are dropped"),
+        "{text}"
+    );
+}
+
+/// `-o` may rename the output, not change its kind: an image of a window
+/// of a splatted render renders the window's border too, a film does not.
+#[test]
+fn a_resume_keeps_its_outputs_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "render",
+        "--scene",
+        "cover",
+        "--width",
+        "32",
+        "--tile",
+        "8",
+        "--filter",
+        "mitchell",
+        "--pixel-bounds",
+        "4,28,2,16",
+        "-o",
+        "c.png",
+    ];
+    assert_eq!(strata(d, &args, Some("after:1")).status.signal(), Some(6));
+    let out = strata(
+        d,
+        &["render", "--resume", "c.png.checkpoint", "-o", "c.film"],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("writes an image (.png or .exr)"), "{err}");
+    // Renamed within its kind, into a directory that does not exist: the
+    // usual message, not "moved?".
+    let out = strata(
+        d,
+        &["render", "--resume", "c.png.checkpoint", "-o", "no/c.exr"],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("its directory `no` does not exist"), "{err}");
+    ok(
+        d,
+        &["render", "--resume", "c.png.checkpoint", "-o", "c.exr"],
+    );
+    assert_eq!(names(d), ["c.exr"]);
 }

@@ -19,7 +19,7 @@ use crate::commands::{
 use crate::film::{Film, RenderKey, extent, is_film_path, samples_text, window_text};
 use crate::image_io::{Transfer, check_writable_dir, say};
 use crate::progress::Phase;
-use crate::render::{Job, Outcome, Rendered, Resume, SamplerKind, TileFilm, run_resumable};
+use crate::render::{Job, Outcome, Rendered, Resume, TileFilm, run_resumable};
 use crate::scenes::SceneData;
 use crate::scenes::built_in;
 
@@ -95,10 +95,33 @@ const RESUME_FLAGS: [&str; 5] = ["threads", "output", "stats", "spp_map", "scene
 /// `strata render --resume FILE`: the checkpoint's flags (with those of
 /// [`RESUME_FLAGS`] given now in their place) planned again, so every
 /// check runs again; its tiles kept, the rest rendered.
-fn resume(path: &Path, now: &RenderArgs) -> Result<()> {
-    let saved = checkpoint::read(path)?;
+fn resume(given_path: &Path, now: &RenderArgs) -> Result<()> {
+    // The file itself, links resolved: its directory anchors the paths it
+    // keeps, and it is the file appended to and removed at the end.
+    let real = given_path
+        .canonicalize()
+        .with_context(|| format!("cannot read the checkpoint `{}`", given_path.display()))?;
+    let path = real.as_path();
+    let mut saved = checkpoint::read(path)?;
     let mut args = saved.args.clone();
     let given = |id: &str| now.given.iter().any(|g| g == id);
+    // The image is the same whatever the output's name, but not whether
+    // it is an image or a film: an image of a window of a splatted render
+    // renders the window's border too.
+    if given("output")
+        && let (Some(old), Some(new)) = (&args.output, &now.output)
+        && is_film_path(old) != is_film_path(new)
+    {
+        bail!(
+            "-o `{}`: the checkpoint's render writes {}; resume it to a file of that kind",
+            new.display(),
+            if is_film_path(old) {
+                "a .film"
+            } else {
+                "an image (.png or .exr)"
+            }
+        );
+    }
     if given("threads") {
         args.threads = now.threads;
     }
@@ -118,13 +141,16 @@ fn resume(path: &Path, now: &RenderArgs) -> Result<()> {
     args.checkpoint = Some(path.to_path_buf());
     args.no_checkpoint = false;
     let name = || format!("checkpoint `{}`", path.display());
+    args.validate()
+        .with_context(|| format!("{}: its settings", name()))?;
     // Files of a job that was moved without them: say how to go on.
-    for (file, flag) in [
-        (&args.output, "-o"),
-        (&args.stats, "--stats"),
-        (&args.spp_map, "--spp-map"),
+    for (file, flag, id) in [
+        (&args.output, "-o", "output"),
+        (&args.stats, "--stats", "stats"),
+        (&args.spp_map, "--spp-map", "spp_map"),
     ] {
         if let Some(dir) = file.as_deref().and_then(Path::parent)
+            && !given(id)
             && !dir.as_os_str().is_empty()
             && !dir.is_dir()
         {
@@ -143,14 +169,15 @@ fn resume(path: &Path, now: &RenderArgs) -> Result<()> {
         .with_context(|| format!("{}: its settings", name()))?;
     warn_bright_lights(&scene);
     saved.check(&plan.job).with_context(name)?;
+    saved.read_tiles(path, &plan.job).with_context(name)?;
     let checkpoint = Checkpoint::reopen(path, &saved)?;
     if saved.dropped_bytes > 0 {
         say(&format!(
-            "checkpoint `{}`: {} bytes after its {} whole tiles are dropped (a tile record cut off \
-             by the interrupt, or damaged); their tiles are rendered again",
+            "checkpoint `{}`: after the {} it holds whole, {} bytes are dropped (a tile record \
+             cut off by the interrupt, or damaged); their tiles are rendered again",
             path.display(),
-            saved.dropped_bytes,
-            saved.tiles.len()
+            tiles_text(saved.tiles.len()),
+            saved.dropped_bytes
         ));
     }
     finish(&plan, Some(checkpoint), saved.tiles)
@@ -444,13 +471,8 @@ impl RenderArgs {
             return Ok((self.spp.unwrap_or(scene_spp), None));
         };
         let (min, max) = (self.min_spp, self.max_spp);
+        // Checked by `validate`: the settings make an adaptive render.
         let adaptive = adaptive_settings(min, max, t, "--adaptive")?;
-        if self.sampler == SamplerKind::Grid {
-            bail!(
-                "--adaptive needs a sampler whose first samples spread over the pixel \
-                 (independent, stratified, sobol, halton, zsobol): the grid fills its rows in order"
-            );
-        }
         Ok((adaptive.max(), Some(adaptive)))
     }
 

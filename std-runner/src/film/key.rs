@@ -206,9 +206,15 @@ fn canonical(name: &str, v: &str) -> Option<bool> {
                 && v.bytes()
                     .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
         }
-        "camera" => same(parse_camera(v).map(|c| camera_text(&c))),
+        "camera" => parse_camera(v).is_some_and(|c| c.is_camera() && camera_text(&c) == v),
         "size" => same(parse_size(v).map(|(w, h)| format!("{w}x{h}"))),
-        "spp" | "max_depth" => same(v.parse::<u32>().ok().map(|n| n.to_string())),
+        "spp" => same(v.parse::<u32>().ok().map(|n| n.to_string())),
+        "max_depth" => same(
+            v.parse::<u32>()
+                .ok()
+                .filter(|d| (1..=crate::limits::MAX_DEPTH).contains(d))
+                .map(|n| n.to_string()),
+        ),
         "seed" => same(v.parse::<u64>().ok().map(|n| n.to_string())),
         "sampler" => crate::render::SamplerKind::ALL
             .iter()
@@ -240,6 +246,22 @@ struct CameraNumbers {
     vfov: f32,
     defocus: f32,
     focus: f32,
+}
+
+impl CameraNumbers {
+    /// Whether a render could have had this camera: finite numbers that
+    /// make one.
+    fn is_camera(&self) -> bool {
+        let desc = strata::render::CameraDesc {
+            look_from: self.look_from.into(),
+            look_at: self.look_at.into(),
+            up: self.up.into(),
+            vfov_deg: self.vfov,
+            defocus_angle_deg: self.defocus,
+            focus_dist: self.focus,
+        };
+        strata::render::Camera::new(&desc, 1, 1).is_ok()
+    }
 }
 
 /// `from [x, y, z] at [x, y, z] up [x, y, z] vfov V defocus D focus F`,
@@ -398,7 +420,11 @@ pub fn samples_text(s: &Range<u32>) -> String {
 
 /// Parses `A..B` with `A < B`.
 pub fn parse_samples(s: &str) -> Option<Range<u32>> {
+    parse_range(s).filter(|r| r.start < r.end)
+}
+
+/// Parses `A..B`, empty or not.
+pub fn parse_range(s: &str) -> Option<Range<u32>> {
     let (a, b) = s.split_once("..")?;
-    let (a, b): (u32, u32) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
-    (a < b).then_some(a..b)
+    Some(a.trim().parse().ok()?..b.trim().parse().ok()?)
 }

@@ -73,8 +73,8 @@ pub use format::{BYTES_PER_PIXEL, MAGIC};
 pub use format::{FilmFile, FilmHead};
 pub(crate) use format::{count_problem, decode_pixels, encode_pixels};
 pub use key::{
-    KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_samples, samples_text, version,
-    window_text,
+    KEY_FIELDS, RenderKey, adaptive_text, filter_text, parse_range, parse_samples, samples_text,
+    version, window_text,
 };
 pub use merge::{merge, merge_files, merge_whole};
 

@@ -64,6 +64,7 @@ use glam::Vec3;
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::limits::MAX_SCENE_BYTES;
 use crate::scenes::SceneData;
 
 /// A scene file that could not be used: where and why. Shown as
@@ -115,12 +116,25 @@ struct File {
 
 /// Reads and checks a scene file.
 pub fn load(path: &Path) -> Result<SceneData, SceneFileError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneFileError {
+    use std::io::Read;
+    let whole = |message: String| SceneFileError {
         file: path.to_path_buf(),
         line: 0,
         field: "(file)".into(),
-        message: format!("cannot read the scene file: {e}"),
-    })?;
+        message,
+    };
+    // At most one byte past the limit is read: a device or a huge file is
+    // refused, not loaded.
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| whole(format!("cannot read the scene file: {e}")))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(whole(format!(
+            "larger than {} MiB: not a scene file strata reads",
+            MAX_SCENE_BYTES >> 20
+        )));
+    }
     let text = String::from_utf8(bytes).map_err(|e| {
         // The line of the first byte that is not UTF-8.
         let at = e.utf8_error().valid_up_to();
