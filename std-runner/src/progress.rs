@@ -111,6 +111,15 @@ impl Phase {
         }
     }
 
+    /// Prints `line` to stderr without breaking the bar (drawn again
+    /// under it).
+    pub fn println(&self, line: &str) {
+        match &self.bar {
+            Some(bar) => bar.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
+        }
+    }
+
     /// Units counted so far.
     #[must_use]
     pub fn done(&self) -> u64 {

@@ -233,6 +233,10 @@ fn finish(
     // pixel) costs only the safety it gives: the render goes on without
     // it, and the tiles it holds whole still resume.
     let failed = AtomicBool::new(false);
+    let phase = Phase::start(
+        &format!("render {}", job.scene.name),
+        job.window.area() as u64,
+    );
     let on_tile = |t: &TileFilm| -> Result<()> {
         rendered_now.fetch_add(1, Ordering::Relaxed);
         if let Some(c) = &checkpoint
@@ -242,20 +246,16 @@ fn finish(
                 Ok(()) => {
                     appended.fetch_add(1, Ordering::Relaxed);
                 }
-                Err(e) if !failed.swap(true, Ordering::SeqCst) => eprintln!(
+                Err(e) if !failed.swap(true, Ordering::SeqCst) => phase.println(&format!(
                     "warning: {e:#}; rendering on without it (an interrupted render resumes \
                      from the {} it holds whole)",
                     tiles_text(resumed + appended.load(Ordering::Relaxed))
-                ),
+                )),
                 Err(_) => {}
             }
         }
         Ok(())
     };
-    let phase = Phase::start(
-        &format!("render {}", job.scene.name),
-        job.window.area() as u64,
-    );
     let resume = Resume {
         done,
         on_tile: &on_tile,
