@@ -194,27 +194,21 @@ impl Checkpoint {
         })
     }
 
-    /// Opens a checkpoint read by [`read`] for more tiles, cutting off a
-    /// torn last record.
-    pub fn reopen(path: &Path, saved: &Saved) -> Result<Checkpoint> {
-        Checkpoint::open_at(path, saved.end, saved.id, false)
+    /// Takes the checkpoint [`open`] opened, its records read by
+    /// [`Saved::read_tiles`], for more tiles: a torn last record is cut
+    /// off.
+    pub fn reopen(opened: Opened, saved: &Saved) -> Result<Checkpoint> {
+        Checkpoint::take(opened.file, &opened.path, saved.end, saved.id, false)
     }
 
     fn open_at(path: &Path, end: u64, id: u64, new: bool) -> Result<Checkpoint> {
+        let file = open_locked(path)?;
+        Checkpoint::take(file, path, end, id, new)
+    }
+
+    /// The checkpoint of `file` (open, locked), cut to `end`.
+    fn take(mut file: File, path: &Path, end: u64, id: u64, new: bool) -> Result<Checkpoint> {
         let cannot = || format!("cannot open the checkpoint `{}`", path.display());
-        let mut file = OpenOptions::new()
-            .write(true)
-            .open(path)
-            .with_context(cannot)?;
-        // One writer: a second process resuming the same file (a requeued
-        // job whose first run still lives) would interleave records.
-        // A file system without locks cannot have this check: go on.
-        if let Err(std::fs::TryLockError::WouldBlock) = file.try_lock() {
-            bail!(
-                "the checkpoint `{}` is in use by another strata process",
-                path.display()
-            );
-        }
         file.set_len(end).with_context(cannot)?;
         file.seek(SeekFrom::Start(end)).with_context(cannot)?;
         Ok(Checkpoint {
@@ -308,6 +302,33 @@ impl Checkpoint {
     }
 }
 
+/// `path` opened to read and append, and locked: one process at a time.
+/// A second process resuming the same file (a requeued job whose first
+/// run still lives) would interleave records; a file system without locks
+/// cannot have this check, and goes on.
+fn open_locked(path: &Path) -> Result<File> {
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)
+        .with_context(|| format!("cannot open the checkpoint `{}`", path.display()))?;
+    if let Err(std::fs::TryLockError::WouldBlock) = file.try_lock() {
+        bail!(
+            "the checkpoint `{}` is in use by another strata process",
+            path.display()
+        );
+    }
+    Ok(file)
+}
+
+/// A checkpoint opened and locked by [`open`], read through this one
+/// handle from its header to its last record, then appended to: no other
+/// strata process changes it meanwhile.
+pub struct Opened {
+    file: File,
+    path: PathBuf,
+}
+
 fn test_hook() -> Result<Option<TestHook>> {
     let Ok(v) = std::env::var(TEST_HOOK_VAR) else {
         return Ok(None);
@@ -341,22 +362,27 @@ fn encode_record(id: u64, tile: &TileFilm) -> Vec<u8> {
     out
 }
 
-/// Reads a checkpoint's header (at most [`MAX_HEADER_BYTES`] of it,
-/// checked against its checksum before any of it is used); paths kept
-/// relative are joined to the checkpoint's directory. Its tiles are read
-/// by [`Saved::read_tiles`], once the job they are of is known. Errors
-/// name the file.
-pub fn read(path: &Path) -> Result<Saved> {
+/// Opens a checkpoint (locked: see [`Opened`]) and reads its header (at
+/// most [`MAX_HEADER_BYTES`] of it, checked against its checksum before
+/// any of it is used); paths kept relative are joined to the checkpoint's
+/// directory. Its tiles are read by [`Saved::read_tiles`], once the job
+/// they are of is known. Errors name the file.
+pub fn open(path: &Path) -> Result<(Opened, Saved)> {
     let name = || format!("checkpoint `{}`", path.display());
-    let cannot = || format!("cannot read the checkpoint `{}`", path.display());
+    let file = open_locked(path)?;
     let mut head = Vec::new();
-    File::open(path)
-        .and_then(|f| f.take(MAX_HEADER_BYTES as u64 + 2).read_to_end(&mut head))
-        .with_context(cannot)?;
+    (&file)
+        .take(MAX_HEADER_BYTES as u64 + 2)
+        .read_to_end(&mut head)
+        .with_context(|| format!("cannot read the checkpoint `{}`", path.display()))?;
     let mut saved = parse_header(&head).with_context(name)?;
     let dir = directory_of(path).with_context(name)?;
     saved.args = paths_from(&saved.args, &dir, resolve);
-    Ok(saved)
+    let opened = Opened {
+        file,
+        path: path.to_path_buf(),
+    };
+    Ok((opened, saved))
 }
 
 /// The header of a checkpoint's first bytes: its flags and identity, its
@@ -496,26 +522,12 @@ fn directory_of(path: &Path) -> Result<PathBuf> {
         .with_context(|| format!("cannot resolve `{}`", dir.display()))
 }
 
-/// `p` with symbolic links and `..` resolved, as far as it exists (an
-/// output need not exist yet: its directory does).
-fn real_path(p: &Path) -> PathBuf {
-    if let Ok(real) = p.canonicalize() {
-        return real;
-    }
-    match (p.parent(), p.file_name()) {
-        (Some(d), Some(name)) => d
-            .canonicalize()
-            .map_or_else(|_| p.to_path_buf(), |d| d.join(name)),
-        _ => p.to_path_buf(),
-    }
-}
-
 /// How a checkpoint in `dir` (resolved) keeps the absolute path `p`:
 /// `./REST` if, links and `..` resolved, it lies below `dir` (so a moved
 /// job directory takes its files along; the `./` keeps a scene file apart
 /// from a built-in scene's name), else as it is.
 fn anchor(p: &Path, dir: &Path) -> PathBuf {
-    match real_path(p).strip_prefix(dir) {
+    match crate::image_io::real_path(p).strip_prefix(dir) {
         Ok(rest) if !rest.as_os_str().is_empty() => Path::new(".").join(rest),
         _ => p.to_path_buf(),
     }
@@ -585,15 +597,16 @@ impl Saved {
     /// whose pixels or counts a `.film` would refuse, is an error.
     ///
     /// [`check`]: Saved::check
-    pub fn read_tiles(&mut self, path: &Path, job: &Job<'_>) -> Result<()> {
-        let cannot = || format!("cannot read the checkpoint `{}`", path.display());
-        let file = File::open(path).with_context(cannot)?;
-        let len = file.metadata().with_context(cannot)?.len();
-        let mut r = std::io::BufReader::new(file);
+    pub fn read_tiles(&mut self, opened: &Opened, job: &Job<'_>) -> Result<()> {
+        let cannot = || format!("cannot read the checkpoint `{}`", opened.path.display());
+        let len = opened.file.metadata().with_context(cannot)?.len();
+        let mut r = std::io::BufReader::new(&opened.file);
         r.seek(SeekFrom::Start(self.end)).with_context(cannot)?;
         let tiles = job_tiles(job);
         let mut seen = vec![false; tiles.len()];
-        let mut at = self.end;
+        // The end of the last record read whole (or skipped whole), and
+        // the bytes of damaged records skipped before it.
+        let (mut at, mut skipped) = (self.end, 0u64);
         loop {
             let mut head = [0u8; RECORD_HEAD];
             if r.read_exact(&mut head).is_err() {
@@ -606,11 +619,15 @@ impl Saved {
             let want = tiles.get(i).map(|&t| tile_film_len(job, t)).transpose()?;
             let body = h.count as u64 * BYTES_PER_PIXEL as u64;
             let record = RECORD_OVERHEAD as u64 + body;
+            // A record the file does not hold whole: torn (the last).
+            if record > len.saturating_sub(at) {
+                break;
+            }
             let twice = seen.get(i).copied().unwrap_or(false);
             if h.id != self.id || want != Some(h.count as usize) || twice {
-                // Torn (or damaged), or a whole record that is not one of
-                // this render's tiles: only the latter is an error.
-                if record > len - at || !whole_record(&mut r, &head, record) {
+                // Damaged, or a whole record that is not one of this
+                // render's tiles: only the latter is an error.
+                if !whole_record(&mut r, &head, record) {
                     break;
                 }
                 if h.id != self.id {
@@ -631,20 +648,23 @@ impl Saved {
             if r.read_exact(&mut rest).is_err() {
                 break;
             }
+            at += record;
             let mut sum = crate::hash::Fnv::default();
             sum.bytes(&head);
             sum.bytes(&rest[..body as usize]);
             if sum.finish().to_le_bytes() != rest[body as usize..] {
-                break;
+                // A damaged record of one of the tiles: rendered again;
+                // the records after it are kept.
+                skipped += record;
+                continue;
             }
             seen[i] = true;
             let pixels = decode_pixels(&rest[..body as usize]);
             check_tile(job, tiles[i], &pixels, &h.stats)
                 .with_context(|| format!("its record of tile {i} is damaged"))?;
             self.tiles.push((h.index, pixels, h.stats));
-            at += record;
         }
-        self.dropped_bytes = len - at;
+        self.dropped_bytes = len.saturating_sub(at) + skipped;
         self.end = at;
         Ok(())
     }

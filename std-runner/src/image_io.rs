@@ -104,10 +104,9 @@ pub fn check_writable_dir(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("output `{}` is a directory", path.display());
     }
-    let probe = temp_path(path);
     // The reason in the one line main prints (`{e:#}` shows the chain,
     // but callers that wrap this error may not).
-    std::fs::File::create(&probe).map_err(|e| {
+    let (probe, _) = create_temp(path).map_err(|e| {
         let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
         match dir {
             Some(d) if !d.is_dir() => anyhow::anyhow!(
@@ -127,12 +126,50 @@ fn extension(path: &Path) -> Option<String> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
-/// `dir/.name.strata-tmp-PID` beside the target.
-fn temp_path(path: &Path) -> PathBuf {
+/// `p` with its directory's symbolic links and `..` resolved, its own
+/// name kept as given (a link stays the link: a write replaces it, as the
+/// rename of [`write_atomic`] does). `p` need not exist; where its
+/// directory does not either, `p` made absolute.
+#[must_use]
+pub fn real_path(p: &Path) -> PathBuf {
+    let Ok(abs) = std::path::absolute(p) else {
+        return p.to_path_buf();
+    };
+    match (abs.parent(), abs.file_name()) {
+        (Some(d), Some(name)) => d
+            .canonicalize()
+            .map_or_else(|_| abs.clone(), |d| d.join(name)),
+        // `/` or a path ending in `..`: resolved whole.
+        _ => abs.canonicalize().unwrap_or(abs),
+    }
+}
+
+/// A new temporary file beside `path` ([`temp_path_n`]: the first name
+/// no file has yet).
+fn create_temp(path: &Path) -> std::io::Result<(PathBuf, std::fs::File)> {
+    let mut n = 0;
+    loop {
+        let tmp = temp_path_n(path, n);
+        match std::fs::File::create_new(&tmp) {
+            Ok(f) => return Ok((tmp, f)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 64 => n += 1,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// `dir/.name.strata-tmp-PID` (`n = 0`) or `…-PID-n`: the `n`th try of a
+/// name no other file has (a process of the same PID on another host or
+/// in another container may write beside the same target).
+fn temp_path_n(path: &Path, n: u32) -> PathBuf {
     let name = path
         .file_name()
         .map_or("out".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.strata-tmp-{}", std::process::id()))
+    let pid = std::process::id();
+    path.with_file_name(match n {
+        0 => format!(".{name}.strata-tmp-{pid}"),
+        n => format!(".{name}.strata-tmp-{pid}-{n}"),
+    })
 }
 
 /// Writes through `write` into a temporary file and renames it to `path`;
@@ -143,12 +180,12 @@ fn temp_path(path: &Path) -> PathBuf {
 /// ([`remove_stale_temps`]).
 pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     remove_stale_temps(path);
-    let tmp = temp_path(path);
-    // Held until the rename: a live writer's file is never taken for a
-    // stale one. (A file system without locks cannot have this: go on.)
-    let _held = std::fs::File::create(&tmp)
-        .ok()
-        .filter(|f| f.lock().is_ok());
+    // A name of our own (made new, never another writer's file), locked
+    // until the rename: a live writer's file is never taken for a stale
+    // one. (A file system without locks cannot have this: go on.)
+    let (tmp, file) =
+        create_temp(path).with_context(|| format!("cannot write `{}`", path.display()))?;
+    let _held = file.try_lock().is_ok().then_some(file);
     let result = write(&tmp).and_then(|()| {
         std::fs::rename(&tmp, path)
             .with_context(|| format!("cannot move output into `{}`", path.display()))
@@ -160,10 +197,11 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
 }
 
 /// Removes the temporary files that writes of `path` left behind:
-/// `.NAME.strata-tmp-*` beside it whose lock no process holds (its writer
-/// was killed; [`write_atomic`] holds the lock while it writes, on any
-/// host that shares the file system's locks). A file whose lock is held,
-/// or whose lock cannot be tried, is left alone.
+/// `.NAME.strata-tmp-PID` or `…-PID-N` beside it, regular files whose lock
+/// no process holds (their writer was killed; [`write_atomic`] holds the
+/// lock while it writes, on any host that shares the file system's
+/// locks). A file whose lock is held, or cannot be tried, is left alone,
+/// and so is anything but a regular file (a FIFO would block the open).
 pub fn remove_stale_temps(path: &Path) {
     let Some(name) = path.file_name() else {
         return;
@@ -176,15 +214,23 @@ pub fn remove_stale_temps(path: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
-    let own = temp_path(path);
     for entry in entries.flatten() {
-        let stale = entry
-            .file_name()
-            .to_str()
-            .is_some_and(|f| f.starts_with(&prefix))
-            && entry.path() != own
-            && std::fs::File::open(entry.path()).is_ok_and(|f| f.try_lock().is_ok());
-        if stale {
+        let ours = entry.file_name().to_str().is_some_and(|f| {
+            f.strip_prefix(&prefix).is_some_and(|tail| {
+                !tail.is_empty()
+                    && tail.bytes().all(|b| b.is_ascii_digit() || b == b'-')
+                    && tail.as_bytes()[0].is_ascii_digit()
+            })
+        });
+        let regular = ours && entry.metadata().is_ok_and(|m| m.file_type().is_file());
+        if !regular {
+            continue;
+        }
+        // Removed while its lock is held here: no writer takes the name
+        // meanwhile (a new one is made only once this one is gone).
+        if let Ok(f) = std::fs::File::open(entry.path())
+            && f.try_lock().is_ok()
+        {
             std::fs::remove_file(entry.path()).ok();
         }
     }

@@ -645,6 +645,11 @@ fn help_texts_are_self_contained() {
 fn bad_flags_are_refused_before_work() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    // Sparse: no disk, and never read.
+    std::fs::File::create(d.join("huge.toml"))
+        .unwrap()
+        .set_len(300 << 20)
+        .unwrap();
     for (args, want) in [
         (vec!["render", "--width", "0"], "--width"),
         (vec!["render", "--spp", "0"], "--spp"),
@@ -665,7 +670,11 @@ fn bad_flags_are_refused_before_work() {
         ),
         (
             vec!["render", "--scene", "/dev/zero"],
-            "/dev/zero: larger than 256 MiB",
+            "/dev/zero: not a regular file",
+        ),
+        (
+            vec!["render", "--scene", "huge.toml"],
+            "huge.toml: larger than 256 MiB",
         ),
         (vec!["render", "-o", "image.jpg"], ".png or .exr"),
         (

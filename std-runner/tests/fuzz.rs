@@ -454,11 +454,22 @@ fn damage_bytes(b: &mut Vec<u8>, rng: &mut Rng) -> &'static str {
 struct Tally {
     counts: BTreeMap<Verdict, usize>,
     examples: Vec<String>,
+    /// Per mutation: cases, and those refused by a header checksum.
+    by_kind: BTreeMap<String, (usize, usize)>,
+}
+
+/// Whether a refusal came from a header's checksum (not from what lies
+/// behind it).
+fn by_checksum(stderr: &str) -> bool {
+    stderr.contains("header is damaged") || stderr.contains("header's checksum does not match")
 }
 
 impl Tally {
     fn add(&mut self, v: Verdict, what: &str, stderr: &str) {
         *self.counts.entry(v).or_default() += 1;
+        let k = self.by_kind.entry(what.to_string()).or_default();
+        k.0 += 1;
+        k.1 += by_checksum(stderr) as usize;
         // A few of each bad kind, so a rare panic is shown beside many
         // wrong files.
         let shown = self
@@ -936,6 +947,20 @@ fn damaged_inputs_are_refused_or_harmless() {
         assert!(
             t.counts.get(&Verdict::Refused).copied().unwrap_or(0) > 0,
             "no case was refused: the mutations reach nothing\n{text}"
+        );
+    }
+    // Resealed edits reach behind the header checksums (to the settings'
+    // check, the identity, the typed fields), so those are tested too.
+    for (t, kind) in [
+        (&tallies[0], "header value, resealed"),
+        (&tallies[1], "header number, resealed"),
+        (&tallies[1], "header word, resealed"),
+        (&tallies[1], "every part relabelled, resealed"),
+    ] {
+        let &(cases, checksum) = t.by_kind.get(kind).unwrap_or(&(0, 0));
+        assert!(
+            cases > 0 && checksum == 0,
+            "{kind}: {cases} cases, {checksum} stopped by a checksum\n{text}"
         );
     }
 }

@@ -895,7 +895,7 @@ fn a_huge_or_endless_file_is_refused_from_its_first_bytes() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(
-        text.contains("after the 1 tile it holds whole, 44 bytes are dropped"),
+        text.contains("it holds 1 tile whole; 44 bytes of tile records"),
         "{text}"
     );
 }
@@ -944,4 +944,89 @@ fn a_resume_keeps_its_outputs_kind() {
         &["render", "--resume", "c.png.checkpoint", "-o", "c.exr"],
     );
     assert_eq!(names(d), ["c.exr"]);
+}
+
+/// A scene file or an output that is a link inside the job directory is
+/// kept as the link's name, as a one-shot render reads and writes it.
+#[test]
+fn links_in_a_job_directory_are_kept_as_links() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("scenes")).unwrap();
+    std::fs::write(d.join("scenes/real.toml"), SCENE).unwrap();
+    std::os::unix::fs::symlink("scenes/real.toml", d.join("s.toml")).unwrap();
+    let args = [
+        "render", "--scene", "s.toml", "--width", "32", "--tile", "8", "-o", "out.png",
+    ];
+    assert_eq!(strata(d, &args, Some("after:2")).status.signal(), Some(6));
+    let text = String::from_utf8_lossy(&bytes(&d.join("out.png.checkpoint"))).into_owned();
+    assert!(text.contains("\"scene\":\"./s.toml\""), "{text:.400}");
+    let out = ok(d, &["render", "--resume", "out.png.checkpoint"]);
+    assert_eq!(resumed_counts(&out).0, 2, "{out}");
+    assert_eq!(names(d), ["out.png", "s.toml", "scenes"]);
+}
+
+/// A second process cannot resume a checkpoint a render is appending to
+/// (a requeued job whose first run still lives): it is locked from the
+/// moment it is opened, before anything is read.
+#[test]
+fn a_checkpoint_in_use_is_refused_before_it_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args([
+            "render", "--scene", "cover", "--width", "64", "--spp", "1", "--tile", "16", "-o",
+            "c.png",
+        ])
+        .current_dir(d)
+        .env(HOOK, "stuck:1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = d.join("c.png.checkpoint");
+    let mut polls = 0;
+    while !checkpoint.exists() || recorded(&checkpoint) == 0 {
+        polls += 1;
+        if polls == 60_000 || child.try_wait().unwrap().is_some() {
+            child.kill().ok();
+            panic!("no tile was checkpointed while the render ran");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let out = strata(d, &["render", "--resume", "c.png.checkpoint"], None);
+    child.kill().ok();
+    child.wait().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("in use by another strata process"), "{err}");
+}
+
+/// A FIFO (or anything but a regular file) named like a temporary file
+/// is left alone, not opened: opening it would wait forever.
+#[test]
+fn a_fifo_named_like_a_temporary_file_is_left_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let made = Command::new("mkfifo")
+        .arg(d.join(".out.png.strata-tmp-1"))
+        .status()
+        .unwrap();
+    assert!(made.success());
+    ok(
+        d,
+        &[
+            "render",
+            "--scene",
+            "cover",
+            "--width",
+            "16",
+            "--spp",
+            "1",
+            "--no-checkpoint",
+            "-o",
+            "out.png",
+        ],
+    );
+    assert_eq!(names(d), [".out.png.strata-tmp-1", "out.png"]);
 }

@@ -284,53 +284,52 @@ pub const PACKET_TARGET: f64 = 3.5;
 
 pub(super) fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<Goal> {
     let simd = strata::trace::simd_level();
-    // The control passing means the sampler goals cannot be judged.
-    let blind = ratios
-        .iter()
-        .find(|r| r.name == RENDER_COST_CONTROL.0)
-        .map(|r| r.ratio.median <= RENDER_COST_CONTROL.1);
+    // Why a ratio cannot be judged for the machine's load, if it cannot.
+    let busy = |name: &str| -> Option<String> {
+        if let Some(two) = name.strip_suffix(" / 1 thread") {
+            return match effective_cores.iter().find(|(n, _)| n == two) {
+                None => Some("effective cores not measured on this host".to_string()),
+                Some(&(_, c)) if c < MIN_JUDGED_CORES => Some(format!(
+                    "busy host: {c:.3} effective cores of 2 (needs {MIN_JUDGED_CORES})"
+                )),
+                Some(_) => None,
+            };
+        }
+        // Both renders of a render-cost ratio had their core.
+        let (a, b) = name.strip_prefix(RENDER_COST)?.trim().split_once(" / ")?;
+        [a, b].into_iter().find_map(|who| {
+            let name = format!("{RENDER_COST} {who}");
+            match effective_cores.iter().find(|(n, _)| *n == name) {
+                None => Some("effective cores not measured on this host".to_string()),
+                Some(&(_, c)) if c < MIN_JUDGED_CORE => Some(format!(
+                    "busy host: the {who} render had {c:.3} of its core (needs {MIN_JUDGED_CORE})"
+                )),
+                Some(_) => None,
+            }
+        })
+    };
+    // The sampler goals are judged only beside a control that was judged
+    // and failed.
+    let control = ratios.iter().find(|r| r.name == RENDER_COST_CONTROL.0);
+    let blind = match control {
+        None => Some("the must-fail control did not run".to_string()),
+        Some(c) => match busy(&c.name) {
+            Some(_) => Some("the must-fail control was not judged".to_string()),
+            None if c.ratio.median <= RENDER_COST_CONTROL.1 => Some(
+                "the must-fail control passed: this run cannot tell a slow sampler".to_string(),
+            ),
+            None => None,
+        },
+    };
     ratios
         .iter()
         .filter_map(|r| {
             let target = target(&r.name, simd)?;
-            let control = r.name == RENDER_COST_CONTROL.0;
+            let is_control = r.name == RENDER_COST_CONTROL.0;
             let measured = r.ratio.median;
-            let busy = r.name.strip_suffix(" / 1 thread").and_then(|two| {
-                match effective_cores.iter().find(|(n, _)| n == two) {
-                    None => Some("effective cores not measured on this host".to_string()),
-                    Some(&(_, c)) if c < MIN_JUDGED_CORES => Some(format!(
-                        "busy host: {c:.2} effective cores of 2 (needs {MIN_JUDGED_CORES})"
-                    )),
-                    Some(_) => None,
-                }
-            });
-            // Both renders of a render-cost ratio had their core.
-            let busy = busy.or_else(|| {
-                let (a, b) = r.name.strip_prefix(RENDER_COST)?.trim().split_once(" / ")?;
-                [a, b].into_iter().find_map(|who| {
-                    let name = format!("{RENDER_COST} {who}");
-                    match effective_cores.iter().find(|(n, _)| *n == name) {
-                        None => Some("effective cores not measured on this host".to_string()),
-                        Some(&(_, c)) if c < MIN_JUDGED_CORE => Some(format!(
-                            "busy host: the {who} render had {c:.2} of its core (needs \
-                             {MIN_JUDGED_CORE})"
-                        )),
-                        Some(_) => None,
-                    }
-                })
-            });
-            let busy = busy.or_else(|| {
-                let sampler = RENDER_COST_TARGETS.iter().any(|(n, _)| *n == r.name);
-                match (sampler, blind) {
-                    (true, Some(true)) => Some(
-                        "the must-fail control passed: this run cannot tell a slow sampler"
-                            .to_string(),
-                    ),
-                    (true, None) => Some("the must-fail control did not run".to_string()),
-                    _ => None,
-                }
-            });
-            let verdict = match busy {
+            let sampler = RENDER_COST_TARGETS.iter().any(|(n, _)| *n == r.name);
+            let why = busy(&r.name).or_else(|| blind.clone().filter(|_| sampler));
+            let verdict = match why {
                 Some(why) => Verdict::NotJudged(why),
                 None if target.met(measured) => Verdict::Pass,
                 None => Verdict::Fail,
@@ -341,7 +340,7 @@ pub(super) fn goals(ratios: &[Ratio], effective_cores: &[(String, f64)]) -> Vec<
                 at_most: target.at_most,
                 measured,
                 verdict,
-                control,
+                control: is_control,
             })
         })
         .collect()
@@ -721,12 +720,24 @@ mod tests {
             &busy,
         );
         assert!(
-            matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("the sobol render had 0.80")),
+            matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("the sobol render had 0.800")),
             "{:?}",
             g[0].verdict
         );
         let g = goals(&[ratio(sobol, 1.0), ratio(RENDER_COST_CONTROL.0, 1.4)], &[]);
         assert!(matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("not measured")));
+        // A control whose render did not have its core proves nothing.
+        let mut busy_control = cores.clone();
+        busy_control[3].1 = 0.90;
+        let g = goals(
+            &[ratio(sobol, 1.0), ratio(RENDER_COST_CONTROL.0, 1.4)],
+            &busy_control,
+        );
+        assert!(
+            matches!(&g[0].verdict, Verdict::NotJudged(why) if why.contains("control was not judged")),
+            "{:?}",
+            g[0].verdict
+        );
         // The table says what a control's verdict means.
         let report = Report {
             version: "v".into(),

@@ -8,18 +8,15 @@ use anyhow::{Context, Result};
 
 use crate::film::{Film, is_film_path};
 use crate::image_io::{
-    ImageFormat, Transfer, check_output, check_writable_dir, write_atomic, write_file,
+    ImageFormat, Transfer, check_output, check_writable_dir, real_path, write_atomic, write_file,
     write_png_rgb8,
 };
 use crate::plot::spp_map_with_legend;
 
-/// Whether two paths name the same file, by their absolute forms (the
-/// files need not exist yet).
+/// Whether two paths name the same file, their directories' links and
+/// `..` resolved ([`real_path`]; the files need not exist yet).
 pub(crate) fn same_path(a: &Path, b: &Path) -> bool {
-    match (std::path::absolute(a), std::path::absolute(b)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
+    real_path(a) == real_path(b)
 }
 
 /// Mean, least and most samples per pixel, and the share at the maximum.

@@ -102,7 +102,7 @@ fn resume(given_path: &Path, now: &RenderArgs) -> Result<()> {
         .canonicalize()
         .with_context(|| format!("cannot read the checkpoint `{}`", given_path.display()))?;
     let path = real.as_path();
-    let mut saved = checkpoint::read(path)?;
+    let (opened, mut saved) = checkpoint::open(path)?;
     let mut args = saved.args.clone();
     let given = |id: &str| now.given.iter().any(|g| g == id);
     // The image is the same whatever the output's name, but not whether
@@ -169,12 +169,12 @@ fn resume(given_path: &Path, now: &RenderArgs) -> Result<()> {
         .with_context(|| format!("{}: its settings", name()))?;
     warn_bright_lights(&scene);
     saved.check(&plan.job).with_context(name)?;
-    saved.read_tiles(path, &plan.job).with_context(name)?;
-    let checkpoint = Checkpoint::reopen(path, &saved)?;
+    saved.read_tiles(&opened, &plan.job).with_context(name)?;
+    let checkpoint = Checkpoint::reopen(opened, &saved)?;
     if saved.dropped_bytes > 0 {
         say(&format!(
-            "checkpoint `{}`: after the {} it holds whole, {} bytes are dropped (a tile record \
-             cut off by the interrupt, or damaged); their tiles are rendered again",
+            "checkpoint `{}`: it holds {} whole; {} bytes of tile records cut off by the \
+             interrupt, or damaged, are dropped, and their tiles are rendered again",
             path.display(),
             tiles_text(saved.tiles.len()),
             saved.dropped_bytes

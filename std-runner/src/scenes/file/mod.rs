@@ -123,17 +123,30 @@ pub fn load(path: &Path) -> Result<SceneData, SceneFileError> {
         field: "(file)".into(),
         message,
     };
-    // At most one byte past the limit is read: a device or a huge file is
-    // refused, not loaded.
+    // A regular file, of which at most one byte past the limit is read: a
+    // device, a FIFO or a huge file is refused, not waited on or loaded.
+    let meta =
+        std::fs::metadata(path).map_err(|e| whole(format!("cannot read the scene file: {e}")))?;
+    if !meta.is_file() {
+        return Err(whole(
+            "not a regular file: a scene file is TOML text".into(),
+        ));
+    }
+    let too_large = || {
+        whole(format!(
+            "larger than {} MiB: not a scene file strata reads",
+            MAX_SCENE_BYTES >> 20
+        ))
+    };
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(too_large());
+    }
     let mut bytes = Vec::new();
     std::fs::File::open(path)
         .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
         .map_err(|e| whole(format!("cannot read the scene file: {e}")))?;
     if bytes.len() as u64 > MAX_SCENE_BYTES {
-        return Err(whole(format!(
-            "larger than {} MiB: not a scene file strata reads",
-            MAX_SCENE_BYTES >> 20
-        )));
+        return Err(too_large());
     }
     let text = String::from_utf8(bytes).map_err(|e| {
         // The line of the first byte that is not UTF-8.
