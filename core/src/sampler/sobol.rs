@@ -44,7 +44,12 @@
 //! row for dimension 2 of Joe and Kuo's `new-joe-kuo-6.21201` (2008),
 //! whose licence is in `core/data/LICENSE-JOE-KUO.txt`.
 
-/// Dimensions a [`Sobol`](super::Sobol) block evaluates at once: eight
+use glam::{UVec2, Vec2};
+
+use super::{PixelKey, Sampler};
+use crate::rng::mix64;
+
+/// Dimensions a [`Sobol`] block evaluates at once: eight
 /// pairs.
 pub(crate) const BLOCK: usize = 16;
 
@@ -191,6 +196,199 @@ fn padded_block_by_pair(
     out
 }
 
+/// Keys of the Sobol' index shuffles and output scrambles, apart from
+/// each other and from stream states.
+pub(super) const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
+pub(super) const SOBOL_DIM_SALT: u64 = 0xa409_3822_299f_31d0;
+
+/// Blocks of [`BLOCK`] dimensions whose keys a Sobol' sampler keeps
+/// for its current pixel (a path of 5 segments draws 28 dimensions).
+const SOBOL_KEYED_BLOCKS: usize = 2;
+
+/// The keys of Sobol' block `block` (dimensions `16·block ..`) of the pixel
+/// hashed to `pixel_key`: each pair's key (index shuffle) and each lane's
+/// dimension key (output scramble).
+#[inline]
+fn sobol_keys(pixel_key: u64, block: u32) -> SobolKeys {
+    let first = block.wrapping_mul(BLOCK as u32);
+    SobolKeys {
+        pairs: core::array::from_fn(|g| {
+            let pair = first / 2 + g as u32;
+            (mix64(pixel_key ^ SOBOL_GROUP_SALT ^ pair as u64) >> 32) as u32
+        }),
+        dims: core::array::from_fn(|l| {
+            let d = first.wrapping_add(l as u32);
+            (mix64(pixel_key ^ SOBOL_DIM_SALT ^ d as u64) >> 32) as u32
+        }),
+    }
+}
+
+/// The keys of one Sobol' block (see [`sobol_keys`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct SobolKeys {
+    /// Each pair's index shuffle key.
+    pairs: [u32; BLOCK / 2],
+    /// Each dimension's output scramble key.
+    dims: [u32; BLOCK],
+}
+
+/// Owen-scrambled Sobol' samples (Burley 2020), padded in pairs of
+/// dimensions (as pbrt's `PaddedSobolSampler`); see the `sobol` module for
+/// the construction. Best with a power-of-two spp: the first `2^k` samples
+/// of a pixel are a `(0, k, 2)`-net in the pixel position and in every 2D
+/// draw, and stratify every dimension into `2^k` equal strata (up to
+/// `k = 24`: values are `f32`s, multiples of `2⁻²⁴`). Any spp works; an
+/// index `≥ spp` continues the sequence, so every aligned block of `2^k`
+/// indices is such a net too.
+///
+/// `next_2d` starts on an even dimension (skipping one if needed), so a 2D
+/// draw is always one pair and keeps its joint stratification. Dimensions
+/// are evaluated sixteen at a time, when a draw first reaches them; the
+/// values are those of each dimension alone.
+///
+/// ```
+/// use glam::UVec2;
+/// use strata::sampler::{Sampler, Sobol};
+/// // 16 samples: one in each of 4 × 4 cells of the pixel, and one in
+/// // each 16th of every other dimension.
+/// let mut s = Sobol::new(16, 3).unwrap();
+/// let (mut cells, mut strata) = ([0; 16], [0; 16]);
+/// for i in 0..16 {
+///     s.start_pixel_sample(UVec2::new(5, 9), i);
+///     let p = s.pixel_2d();
+///     cells[(p.y * 4.0) as usize * 4 + (p.x * 4.0) as usize] += 1;
+///     strata[(s.next_1d() * 16.0) as usize] += 1;
+/// }
+/// assert_eq!((cells, strata), ([1; 16], [1; 16]));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Sobol {
+    spp: u32,
+    pixel: PixelKey,
+    /// Bit `b`: `keys[b]` holds block `b`'s keys for the current pixel.
+    keyed: u32,
+    keys: [SobolKeys; SOBOL_KEYED_BLOCKS],
+    /// The sample index, bit-reversed.
+    index_rev: u32,
+    dimension: u32,
+    /// The block whose values `values` holds.
+    block: u32,
+    values: [f32; BLOCK],
+    pixel_2d: Vec2,
+}
+
+impl Sobol {
+    /// A Sobol' sampler; `None` if `spp` is 0.
+    #[inline]
+    #[must_use]
+    pub fn new(spp: u32, seed: u64) -> Option<Self> {
+        if spp == 0 {
+            return None;
+        }
+        let mut s = Self {
+            spp,
+            pixel: PixelKey::new(seed),
+            keyed: 0,
+            keys: [SobolKeys::default(); SOBOL_KEYED_BLOCKS],
+            index_rev: 0,
+            dimension: 2,
+            block: 0,
+            values: [0.0; BLOCK],
+            pixel_2d: Vec2::ZERO,
+        };
+        s.start_pixel_sample(UVec2::ZERO, 0);
+        Some(s)
+    }
+
+    /// Evaluates block `block` of the current sample into `values`.
+    #[inline(always)]
+    fn fill(&mut self, block: u32) {
+        let far;
+        let keys = if (block as usize) < SOBOL_KEYED_BLOCKS {
+            let b = block as usize;
+            if self.keyed & 1 << b == 0 {
+                self.keys[b] = sobol_keys(self.pixel.key, block);
+                self.keyed |= 1 << b;
+            }
+            &self.keys[b]
+        } else {
+            far = sobol_keys(self.pixel.key, block);
+            &far
+        };
+        let ints = padded_block(self.index_rev, &keys.pairs, &keys.dims);
+        // u32_to_unit_f32 of the 32-bit values, whose 24 high bits these are.
+        self.values = ints.map(|x| x as f32 * (1.0 / 16_777_216.0));
+        self.block = block;
+    }
+
+    /// [`Sobol::fill`] for a draw past the current block: out of line, so
+    /// the draws stay small enough to inline.
+    #[cold]
+    #[inline(never)]
+    fn refill(&mut self, block: u32) {
+        self.fill(block);
+    }
+}
+
+impl Sampler for Sobol {
+    #[inline]
+    fn samples_per_pixel(&self) -> u32 {
+        self.spp
+    }
+
+    #[inline]
+    fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        if self.pixel.set(pixel) {
+            self.keyed = 0;
+        }
+        self.index_rev = index.reverse_bits();
+        self.dimension = 2;
+        self.fill(0);
+        self.pixel_2d = Vec2::new(self.values[0], self.values[1]);
+    }
+
+    #[inline]
+    fn pixel_2d(&mut self) -> Vec2 {
+        self.pixel_2d
+    }
+
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(1);
+        let block = d / BLOCK as u32;
+        if block != self.block {
+            self.refill(block);
+        }
+        self.values[d as usize % BLOCK]
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        // A pair starts on an even dimension, so it never straddles blocks.
+        let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
+        let block = d / BLOCK as u32;
+        if block != self.block {
+            self.refill(block);
+        }
+        let k = d as usize % BLOCK;
+        Vec2::new(self.values[k], self.values[k | 1])
+    }
+
+    // Only the dimension moves: a block is filled when a value is read.
+    #[inline]
+    fn skip_1d(&mut self) {
+        self.dimension = self.dimension.wrapping_add(1);
+    }
+
+    #[inline]
+    fn skip_2d(&mut self) {
+        let d = self.dimension.wrapping_add(self.dimension & 1);
+        self.dimension = d.wrapping_add(2);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,5 +511,52 @@ mod tests {
                 seen[(j & 255) as usize] = true;
             }
         }
+    }
+
+    #[test]
+    fn sobol_equals_its_definition() {
+        for spp in super::super::reference::SPPS {
+            let seed = 5 + spp as u64;
+            let mut s = Sobol::new(spp, seed).unwrap();
+            super::super::reference::visits(spp, |pixel, index, draws| {
+                let want = |d| super::super::reference::sobol_value(seed, pixel, index, d);
+                s.start_pixel_sample(pixel, index);
+                assert_eq!(s.pixel_2d(), Vec2::new(want(0), want(1)));
+                let mut d = 2u32;
+                for &two in draws {
+                    if two {
+                        d += d & 1;
+                        assert_eq!(s.next_2d(), Vec2::new(want(d), want(d + 1)), "dim {d}");
+                        d += 2;
+                    } else {
+                        assert_eq!(s.next_1d(), want(d), "dim {d}");
+                        d += 1;
+                    }
+                }
+            });
+        }
+        // Dimensions far out, where keys are not kept, and at the wrap.
+        let mut s = Sobol::new(4, 9).unwrap();
+        for d in [31, 32, 33, 1000, u32::MAX - 9, u32::MAX - 1] {
+            s.start_pixel_sample(UVec2::new(3, 4), 2);
+            s.dimension = d;
+            let v = s.next_1d();
+            assert_eq!(
+                v,
+                super::super::reference::sobol_value(9, UVec2::new(3, 4), 2, d),
+                "dim {d}"
+            );
+        }
+    }
+
+    #[test]
+    fn huge_indices_and_dimensions_do_not_panic() {
+        use super::super::Sampler;
+        let unit =
+            |v: glam::Vec2| v.cmplt(glam::Vec2::ONE).all() && v.cmpge(glam::Vec2::ZERO).all();
+        let mut sob = Sobol::new(7, 1).unwrap();
+        sob.start_pixel_sample(glam::UVec2::new(u32::MAX, 0), u32::MAX);
+        sob.dimension = u32::MAX - 2;
+        assert!(unit(sob.next_2d()) && (0.0..1.0).contains(&sob.next_1d()));
     }
 }
