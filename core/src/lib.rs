@@ -35,6 +35,12 @@
 //! | [`render`] | camera, textures, materials, sphere lights, [`render::Scene::build`], the exact film, the path tracer and tiles ([`render::render_tile`]) |
 //! | [`filter`] | pixel filters, importance-sampled or (negative lobes) splatted |
 //!
+//! Beneath them, private ground modules that both sampling and tracing
+//! stand on (neither imports the other): `float`, `trig` and `pow`
+//! (portable maths in fixed IEEE sequences), and `lanes` (the `f32` /
+//! `f32x8` lane abstraction, vectors of lanes, and the ray and sphere
+//! bundles the kernels take).
+//!
 //! ## Example
 //!
 //! One pixel sample: a position in the pixel, then a cosine-weighted bounce
@@ -117,6 +123,7 @@
 
 pub mod filter;
 mod float;
+mod lanes;
 pub mod mapping;
 pub mod onb;
 mod pow;

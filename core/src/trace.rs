@@ -102,14 +102,13 @@
 use glam::Vec3;
 
 mod bvh;
-pub(crate) mod lanes;
 mod packet;
 
+use crate::lanes::{Lanes, RayLanes, SphereLanes, V3};
 pub use bvh::{
     BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, Bvh, BvhError, BvhNode8, BvhStack,
     BvhStorage, bvh_storage_for,
 };
-use lanes::Lanes;
 pub use packet::{
     HitPacket8, RayPacket8, SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, any_hit_x8,
     chunks_for, closest_hit_1x8, closest_hit_x8,
@@ -382,33 +381,18 @@ pub(crate) struct Quadratic<L: Lanes> {
 /// Stage one (see the module docs for the formula). Written once for `f32`
 /// and `f32x8` so all paths agree bit for bit.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn sphere_quadratic<L: Lanes>(
-    ox: L,
-    oy: L,
-    oz: L,
-    dx: L,
-    dy: L,
-    dz: L,
-    cx: L,
-    cy: L,
-    cz: L,
-    r: L,
-) -> Quadratic<L> {
-    let fx = ox - cx;
-    let fy = oy - cy;
-    let fz = oz - cz;
-    let b = fx * dx + fy * dy + fz * dz;
-    let lx = fx - b * dx;
-    let ly = fy - b * dy;
-    let lz = fz - b * dz;
+pub(crate) fn sphere_quadratic<L: Lanes>(ray: &RayLanes<L>, s: &SphereLanes<L>) -> Quadratic<L> {
+    let (d, r) = (ray.dir, s.radius);
+    let f = ray.origin - s.center;
+    let b = f.dot(d);
+    let l = f - d * b;
     let r2 = r * r;
-    let ff = fx * fx + fy * fy + fz * fz;
+    let ff = f.dot(f);
     let c = ff - r2;
     // The better-conditioned discriminant for where the origin is: the
     // errors cross near |f| = 1.22 r (see the module docs).
     let far_origin = ff.ge(L::splat(1.5) * r2);
-    let disc = L::select(far_origin, r2 - (lx * lx + ly * ly + lz * lz), b * b - c);
+    let disc = L::select(far_origin, r2 - l.dot(l), b * b - c);
     let valid = L::and(r.gt(L::splat(0.0)), disc.ge(L::splat(0.0)));
     Quadratic { b, c, disc, valid }
 }
@@ -438,24 +422,10 @@ pub(crate) fn sphere_roots<L: Lanes>(k: Quadratic<L>, t_min: L, t_max: L) -> L {
 /// outright), then by [`may_hit`] (a chunk that holds the sphere a ray
 /// leaves).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn sphere_t<L: Lanes>(
-    ox: L,
-    oy: L,
-    oz: L,
-    dx: L,
-    dy: L,
-    dz: L,
-    cx: L,
-    cy: L,
-    cz: L,
-    r: L,
-    t_min: L,
-    t_max: L,
-) -> L {
-    let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
-    if L::any(k.valid) && L::any(may_hit(&k, t_min)) {
-        sphere_roots(k, t_min, t_max)
+pub(crate) fn sphere_t<L: Lanes>(ray: &RayLanes<L>, s: &SphereLanes<L>) -> L {
+    let k = sphere_quadratic(ray, s);
+    if L::any(k.valid) && L::any(may_hit(&k, ray.t_min)) {
+        sphere_roots(k, ray.t_min, ray.t_max)
     } else {
         L::splat(f32::INFINITY)
     }
@@ -466,25 +436,10 @@ pub(crate) fn sphere_t<L: Lanes>(
 /// `t` is then unspecified). For BVH leaves and outliers, whose spheres
 /// are near the ray, so that the finer test often pays.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn sphere_t_live<L: Lanes>(
-    ox: L,
-    oy: L,
-    oz: L,
-    dx: L,
-    dy: L,
-    dz: L,
-    cx: L,
-    cy: L,
-    cz: L,
-    r: L,
-    t_min: L,
-    t_max: L,
-    live: L::Mask,
-) -> L {
-    let k = sphere_quadratic(ox, oy, oz, dx, dy, dz, cx, cy, cz, r);
-    if L::any(L::and(may_hit(&k, t_min), live)) {
-        sphere_roots(k, t_min, t_max)
+pub(crate) fn sphere_t_live<L: Lanes>(ray: &RayLanes<L>, s: &SphereLanes<L>, live: L::Mask) -> L {
+    let k = sphere_quadratic(ray, s);
+    if L::any(L::and(may_hit(&k, ray.t_min), live)) {
+        sphere_roots(k, ray.t_min, ray.t_max)
     } else {
         L::splat(f32::INFINITY)
     }
@@ -513,20 +468,49 @@ pub(crate) fn may_hit<L: Lanes>(k: &Quadratic<L>, t_min: L) -> L::Mask {
 #[inline(always)]
 pub(crate) fn ray_sphere_t(ray: &Ray, s: &Sphere, t_max: f32) -> f32 {
     sphere_t_live(
-        ray.origin.x,
-        ray.origin.y,
-        ray.origin.z,
-        ray.dir.x,
-        ray.dir.y,
-        ray.dir.z,
-        s.center.x,
-        s.center.y,
-        s.center.z,
-        s.radius,
-        ray.t_min,
-        t_max,
+        &RayLanes {
+            t_max,
+            ..ray.lanes()
+        },
+        &s.lanes(),
         true,
     )
+}
+
+impl Ray {
+    /// The ray as one lane.
+    #[inline(always)]
+    pub(crate) fn lanes(&self) -> RayLanes<f32> {
+        RayLanes {
+            origin: V3::splat(self.origin),
+            dir: V3::splat(self.dir),
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    /// The ray in every lane of eight.
+    #[inline(always)]
+    pub(crate) fn lanes_x8(&self) -> RayLanes<crate::lanes::f32x8> {
+        use crate::lanes::f32x8;
+        RayLanes {
+            origin: V3::splat(self.origin),
+            dir: V3::splat(self.dir),
+            t_min: f32x8::splat(self.t_min),
+            t_max: f32x8::splat(self.t_max),
+        }
+    }
+}
+
+impl Sphere {
+    /// The sphere as one lane.
+    #[inline(always)]
+    pub(crate) fn lanes(&self) -> SphereLanes<f32> {
+        SphereLanes {
+            center: V3::splat(self.center),
+            radius: self.radius,
+        }
+    }
 }
 
 /// The first intersection of `ray` with `sphere` in `(t_min, t_max)`, by
@@ -758,45 +742,22 @@ mod tests {
                 _ => u() - 0.5,
             };
             let o = if k % 101 == 0 { Vec3::NAN } else { o };
-            let args = (o.x, o.y, o.z, d.x, d.y, d.z, c.x, c.y, c.z, r);
-            let q = sphere_quadratic(
-                args.0, args.1, args.2, args.3, args.4, args.5, args.6, args.7, args.8, args.9,
-            );
+            let ray = RayLanes {
+                origin: V3::splat(o),
+                dir: V3::splat(d),
+                t_min,
+                t_max: f32::INFINITY,
+            };
+            let sphere = s.lanes();
+            let q = sphere_quadratic(&ray, &sphere);
             let want = if q.valid {
                 sphere_roots(q, t_min, f32::INFINITY)
             } else {
                 f32::INFINITY
             };
-            let got = sphere_t_live(
-                args.0,
-                args.1,
-                args.2,
-                args.3,
-                args.4,
-                args.5,
-                args.6,
-                args.7,
-                args.8,
-                args.9,
-                t_min,
-                f32::INFINITY,
-                true,
-            );
+            let got = sphere_t_live(&ray, &sphere, true);
             assert_eq!(got.to_bits(), want.to_bits(), "ray {k}");
-            let brute = sphere_t(
-                args.0,
-                args.1,
-                args.2,
-                args.3,
-                args.4,
-                args.5,
-                args.6,
-                args.7,
-                args.8,
-                args.9,
-                t_min,
-                f32::INFINITY,
-            );
+            let brute = sphere_t(&ray, &sphere);
             assert_eq!(brute.to_bits(), want.to_bits(), "ray {k}");
             skipped += usize::from(q.valid && !may_hit(&q, t_min));
         }

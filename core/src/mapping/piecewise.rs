@@ -54,7 +54,7 @@ fn cdf(values: &[f32; N]) -> Option<([f32; N1], f32)> {
 /// Gaussian-filtered render).
 #[inline]
 fn find(c: &[f32; N1], u: f32) -> usize {
-    use crate::trace::lanes::{f32x8, lanes_bitmask, lanes_le};
+    use crate::lanes::{f32x8, lanes_bitmask, lanes_le};
     const _: () = assert!(N.is_multiple_of(8));
     let u8 = f32x8::splat(u);
     let below: u32 = c[1..]

@@ -12,11 +12,11 @@
 
 use glam::Vec3;
 
-use super::lanes::{
-    Lanes, f32x8, i32x8, lanes_bitmask, lanes_select, lanes_select_i32, mask_from_bits,
-    mask_from_bools,
-};
 use super::{Hit, Ray, Sphere, sphere_t};
+use crate::lanes::{
+    Lanes, RayLanes, SphereLanes, V3, f32x8, i32x8, lanes_bitmask, lanes_select, lanes_select_i32,
+    mask_from_bits, mask_from_bools,
+};
 
 /// Eight spheres as structure of arrays: one 8-lane vector per coordinate
 /// and one for the radius. Unused lanes have radius 0 and can never be
@@ -50,6 +50,15 @@ const _: () = assert!(core::mem::size_of::<SphereChunk8>() == 128);
 const _: () = assert!(core::mem::align_of::<SphereChunk8>() >= 16);
 
 impl SphereChunk8 {
+    /// The chunk's eight spheres as lanes.
+    #[inline(always)]
+    pub(crate) fn lanes(&self) -> SphereLanes<f32x8> {
+        SphereLanes {
+            center: V3::new(self.cx, self.cy, self.cz),
+            radius: self.r,
+        }
+    }
+
     /// A chunk holding exactly these eight lanes (a lane meant as padding
     /// must have radius 0; [`SphereSet::from_chunks`] checks that).
     #[inline]
@@ -271,16 +280,12 @@ impl<'a> SphereSet<'a> {
 #[inline]
 #[must_use]
 pub fn closest_hit_1x8(set: &SphereSet<'_>, ray: &Ray) -> Option<Hit> {
-    let o = ray.origin;
-    let d = ray.dir;
-    let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
-    let (dx, dy, dz) = (f32x8::splat(d.x), f32x8::splat(d.y), f32x8::splat(d.z));
-    let (t_min, t_max) = (f32x8::splat(ray.t_min), f32x8::splat(ray.t_max));
+    let lanes = ray.lanes_x8();
     let mut best_t = f32x8::splat(f32::INFINITY);
     let mut best_i = i32x8::splat(-1);
     let mut index = i32x8::new([0, 1, 2, 3, 4, 5, 6, 7]);
     for c in set.chunks {
-        let t = sphere_t(ox, oy, oz, dx, dy, dz, c.cx, c.cy, c.cz, c.r, t_min, t_max);
+        let t = sphere_t(&lanes, &c.lanes());
         // Strict: an earlier chunk keeps a tie, as in the scalar loop.
         let closer = t.lt(best_t);
         best_t = lanes_select(closer, t, best_t);
@@ -317,14 +322,10 @@ pub fn closest_hit_1x8(set: &SphereSet<'_>, ray: &Ray) -> Option<Hit> {
 #[inline]
 #[must_use]
 pub fn any_hit_1x8(set: &SphereSet<'_>, ray: &Ray) -> bool {
-    let o = ray.origin;
-    let d = ray.dir;
-    let (ox, oy, oz) = (f32x8::splat(o.x), f32x8::splat(o.y), f32x8::splat(o.z));
-    let (dx, dy, dz) = (f32x8::splat(d.x), f32x8::splat(d.y), f32x8::splat(d.z));
-    let (t_min, t_max) = (f32x8::splat(ray.t_min), f32x8::splat(ray.t_max));
+    let lanes = ray.lanes_x8();
     let inf = f32x8::splat(f32::INFINITY);
     set.chunks.iter().any(|c| {
-        let t = sphere_t(ox, oy, oz, dx, dy, dz, c.cx, c.cy, c.cz, c.r, t_min, t_max);
+        let t = sphere_t(&lanes, &c.lanes());
         lanes_bitmask(t.lt(inf)) != 0
     })
 }
@@ -363,6 +364,17 @@ pub struct RayPacket8 {
 }
 
 impl RayPacket8 {
+    /// The packet's rays as lanes.
+    #[inline(always)]
+    pub(crate) fn lanes(&self) -> RayLanes<f32x8> {
+        RayLanes {
+            origin: V3::new(self.ox, self.oy, self.oz),
+            dir: V3::new(self.dx, self.dy, self.dz),
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
     /// A packet of up to eight rays: lane `k` holds `rays[k]`; lanes past
     /// the end (and every lane past the eighth ray, which is ignored) are
     /// inactive and hold a zero ray.
@@ -438,20 +450,11 @@ impl RayPacket8 {
 #[inline(always)]
 fn packet_sphere_t(p: &RayPacket8, c: &SphereChunk8, lane: usize) -> f32x8 {
     let at = |v: &f32x8| f32x8::splat(v.as_array()[lane]);
-    sphere_t(
-        p.ox,
-        p.oy,
-        p.oz,
-        p.dx,
-        p.dy,
-        p.dz,
-        at(&c.cx),
-        at(&c.cy),
-        at(&c.cz),
-        at(&c.r),
-        p.t_min,
-        p.t_max,
-    )
+    let sphere = SphereLanes {
+        center: V3::new(at(&c.cx), at(&c.cy), at(&c.cz)),
+        radius: at(&c.r),
+    };
+    sphere_t(&p.lanes(), &sphere)
 }
 
 /// Per-lane closest hits of a [`RayPacket8`]: `t` (`+∞` for none) and the

@@ -12,8 +12,8 @@ use super::{
     BVH_LEAF_MAX, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SAH_DEPTH, Bvh, BvhError,
     BvhNode8, LEAF_BIT, PACKET_FALLBACK, SLACK, bvh_storage_for, hittable,
 };
+use crate::lanes::f32x8;
 use crate::trace::Sphere;
-use crate::trace::lanes::f32x8;
 use core::cmp::Ordering;
 
 /// An axis-aligned box.

@@ -10,7 +10,7 @@ mod traverse;
 pub use traverse::BvhStack;
 
 use super::Sphere;
-use super::lanes::f32x8;
+use crate::lanes::f32x8;
 
 /// Most spheres in a leaf.
 pub(crate) const BVH_LEAF_MAX: usize = 8;

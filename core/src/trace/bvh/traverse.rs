@@ -6,9 +6,10 @@
 use glam::Vec3;
 
 use super::{BVH_MAX_DEPTH, Bvh, BvhNode8, LEAF_BIT, SLACK};
-use crate::trace::lanes::{
-    f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt, lanes_le, lanes_lt,
-    lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits, mask_from_i32, mask_sign,
+use crate::lanes::{
+    SphereLanes, V3, f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt,
+    lanes_le, lanes_lt, lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits,
+    mask_from_i32, mask_sign,
 };
 use crate::trace::{
     Hit, HitPacket8, Ray, RayPacket8, Sphere, ray_sphere_t, sphere_t, sphere_t_live,
@@ -149,19 +150,13 @@ impl LeafLanes<'_> {
             a.copy_from_slice(&v[start..end]);
             f32x8::new(a)
         };
+        let spheres = SphereLanes {
+            center: V3::new(load(self.cx), load(self.cy), load(self.cz)),
+            radius: load(self.r),
+        };
         sphere_t_live(
-            f32x8::splat(ray.origin.x),
-            f32x8::splat(ray.origin.y),
-            f32x8::splat(ray.origin.z),
-            f32x8::splat(ray.dir.x),
-            f32x8::splat(ray.dir.y),
-            f32x8::splat(ray.dir.z),
-            load(self.cx),
-            load(self.cy),
-            load(self.cz),
-            load(self.r),
-            f32x8::splat(ray.t_min),
-            f32x8::splat(ray.t_max),
+            &ray.lanes_x8(),
+            &spheres,
             f32x8::new(LEAF_MASKS[(entry & 7) as usize]),
         )
     }
@@ -603,20 +598,15 @@ impl Bvh<'_> {
     ) {
         let inf = f32x8::splat(f32::INFINITY);
         for k in lanes {
-            let t = sphere_t(
-                packet.ox,
-                packet.oy,
-                packet.oz,
-                packet.dx,
-                packet.dy,
-                packet.dz,
-                f32x8::splat(self.cx[k]),
-                f32x8::splat(self.cy[k]),
-                f32x8::splat(self.cz[k]),
-                f32x8::splat(self.r[k]),
-                packet.t_min,
-                packet.t_max,
-            );
+            let sphere = SphereLanes {
+                center: V3::new(
+                    f32x8::splat(self.cx[k]),
+                    f32x8::splat(self.cy[k]),
+                    f32x8::splat(self.cz[k]),
+                ),
+                radius: f32x8::splat(self.r[k]),
+            };
+            let t = sphere_t(&packet.lanes(), &sphere);
             let id = i32x8::splat(self.ids[k] as i32);
             let hit = lane_on & lanes_lt(t, inf);
             let id_lower =

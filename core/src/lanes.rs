@@ -1,11 +1,15 @@
-//! The one place that names `wide`'s 8-lane methods (`float` uses its
-//! 4-lane square root for scalars), and the lane abstraction that lets a
-//! kernel be written once for `f32` and for `f32x8`.
+//! Lanes, a ground module beside `float`: the one place that names
+//! `wide`'s 8-lane methods (`float` uses its 4-lane square root for
+//! scalars), the lane abstraction that lets a formula be written once for
+//! `f32` and for `f32x8` ([`Lanes`]), and vectors of lanes ([`V3`], as
+//! Embree's `Vec3<vfloat<K>>`) with the ray and sphere bundles the
+//! kernels take ([`RayLanes`], [`SphereLanes`]).
 //!
-//! The two SIMD modules, `packet` (sphere chunks, ray and hit packets, the
-//! brute-force 8-wide kernels) and `bvh` (node boxes, slab tests, packet
-//! traversal), and the piecewise-constant tables' cell search
-//! (`mapping::piecewise`) take `f32x8` and `i32x8` from here. They build and read
+//! Tracing's SIMD modules, `trace::packet` (sphere chunks, ray and hit
+//! packets, the brute-force 8-wide kernels) and `trace::bvh` (node boxes,
+//! slab tests, packet traversal), and sampling's piecewise-constant
+//! tables' cell search (`mapping::piecewise`) take `f32x8` and `i32x8`
+//! from here: neither imports the other. They build and read
 //! them (`ZERO`, `splat`, `new`, `to_array`, `as_array`) and use the
 //! arithmetic and bitwise operators; every comparison, select, bitmask
 //! and bit cast goes through the wrappers below, because `wide` has
@@ -24,6 +28,8 @@
 //! and `f32x8`.
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use glam::Vec3;
 
 pub(crate) use wide::{f32x8, i32x8};
 
@@ -130,6 +136,71 @@ impl Lanes for f32x8 {
     fn select(mask: f32x8, a: Self, b: Self) -> Self {
         lanes_select(mask, a, b)
     }
+}
+
+/// Three lanes of `L` as a vector: `x`, `y` and `z` of one point or
+/// direction (`L = f32`) or of eight (`L = f32x8`). Its operations are
+/// written once, in one order, so both forms give the same bits.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct V3<L> {
+    pub(crate) x: L,
+    pub(crate) y: L,
+    pub(crate) z: L,
+}
+
+impl<L: Lanes> V3<L> {
+    /// The vector of the three lanes.
+    #[inline(always)]
+    pub(crate) fn new(x: L, y: L, z: L) -> Self {
+        Self { x, y, z }
+    }
+
+    /// `v` in every lane.
+    #[inline(always)]
+    pub(crate) fn splat(v: Vec3) -> Self {
+        Self::new(L::splat(v.x), L::splat(v.y), L::splat(v.z))
+    }
+
+    /// `x·x' + y·y' + z·z'`, summed left to right.
+    #[inline(always)]
+    pub(crate) fn dot(self, o: Self) -> L {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+}
+
+impl<L: Lanes> Sub for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl<L: Lanes> Mul<L> for V3<L> {
+    type Output = Self;
+    /// Each component times `s` (`s · x` and `x · s` are the same bits:
+    /// IEEE multiplication commutes).
+    #[inline(always)]
+    fn mul(self, s: L) -> Self {
+        Self::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+/// A ray in lanes: origin, unit direction, and the open interval
+/// `(t_min, t_max)` of distances it takes hits in.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RayLanes<L> {
+    pub(crate) origin: V3<L>,
+    pub(crate) dir: V3<L>,
+    pub(crate) t_min: L,
+    pub(crate) t_max: L,
+}
+
+/// A sphere in lanes: centre and radius.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SphereLanes<L> {
+    pub(crate) center: V3<L>,
+    pub(crate) radius: L,
 }
 
 /// `a < b` per lane: a mask, unset where either side is NaN.
