@@ -14,7 +14,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::built_in;
 
 struct Counting;

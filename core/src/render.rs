@@ -19,8 +19,9 @@
 //! | [`scene`] | spheres, materials, lights and background, built into caller-owned storage |
 //! | [`integrator`] | one camera path: the dimension layout and the depth convention |
 //! | [`film`] | exact fixed-point accumulation |
-//! | [`tile`] | rectangles of pixels rendered into the caller's film |
-//! | [`adaptive`] | the adaptive-sampling rule |
+//! | [`tile`] | rectangles of pixels rendered into the caller's film, and how a render's films are laid out |
+//! | [`adaptive`] | the adaptive-sampling rule and its tiles |
+//! | [`splat`] | filters with negative lobes, splatted into the pixels they reach |
 
 pub mod adaptive;
 pub mod camera;
@@ -28,21 +29,23 @@ pub mod film;
 pub mod integrator;
 pub mod material;
 pub mod scene;
+pub mod splat;
 pub mod texture;
 pub mod tile;
 
 pub use crate::filter::PixelFilter;
-pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PilotStats};
+pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PilotStats, render_tile_adaptive};
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum};
-pub use integrator::{RenderSettings, pixel_sample, pixel_sample_with};
+pub use integrator::{
+    CAMERA_DIMENSIONS, RenderSettings, TileStats, VERTEX_DIMENSIONS, pixel_sample,
+    pixel_sample_with,
+};
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};
 pub use scene::{Background, Scene, SceneError, SceneStorage, SceneStorageSize};
+pub use splat::{SPLAT_SIDE, Splat, render_tile_splat, splat_film_size};
 pub use texture::{ImageTexture, Texture, TextureFilter, sphere_uv};
-pub use tile::{
-    RenderError, SPLAT_SIDE, Splat, Tile, TileStats, render_tile, render_tile_adaptive,
-    render_tile_splat, splat_film_size,
-};
+pub use tile::{Layout, RenderError, Tile, TileRenderer, render_tile};
 
 /// The revision of what renders compute: raised whenever a change alters
 /// an existing output (a pixel, a scene hash, a file's bytes; the output

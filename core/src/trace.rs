@@ -49,7 +49,7 @@
 //! # The same bits on every path
 //!
 //! Every kernel runs one function, written once for `f32` and `f32x8`
-//! (the private `lanes` module), so a ray gets the same sphere index and
+//! over the private `lanes` module's ray and sphere bundles, so a ray gets the same sphere index and
 //! the bit-identical `t` from the scalar, 1×8 and packet paths, on SSE2,
 //! AVX2 or AVX-512 builds. No operation is fused; `√` is IEEE-exact
 //! everywhere. `tests/tracing/packet_vs_scalar.rs` checks this on 10⁶ rays.
@@ -91,9 +91,9 @@
 //! - A ray with a NaN component, or NaN `t_min`/`t_max`, hits nothing; in a
 //!   packet, a NaN lane never affects the other lanes.
 //! - An empty range (`t_min ≥ t_max`) hits nothing.
-//! - Directions must be unit length: the formula assumes `d·d = 1`. For
-//!   any other direction (zero included) the result is unspecified — but
-//!   still the same on every path, and never a panic.
+//! - A direction that is not unit length (zero included) breaks the
+//!   one contract above: the result is unspecified and paths may
+//!   disagree, never a panic.
 //! - Coordinates whose squares overflow `f32` (beyond about 1.8e19) give
 //!   unspecified results, never a panic.
 //! - Ties (two spheres at the same `t`) go to the lower sphere index on

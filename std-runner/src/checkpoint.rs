@@ -57,7 +57,7 @@ use crate::film::{
     window_text,
 };
 use crate::image_io::{write_atomic, write_file};
-use crate::render::{Job, TileFilm, job_tiles, tile_film_len, tile_side};
+use crate::job::{Job, TileFilm, job_tiles, tile_film_len, tile_side};
 
 /// The first line of every checkpoint.
 pub const MAGIC: &str = "strata-checkpoint 2";
@@ -676,10 +676,7 @@ impl Saved {
 /// `max_depth` rays and shadow rays a path).
 fn check_tile(job: &Job<'_>, tile: Tile, pixels: &[PixelSum], stats: &TileStats) -> Result<()> {
     check_tile_counts(job, tile, pixels)?;
-    let m = match job.splats() {
-        true => job.filter.splat_margin(),
-        false => 0,
-    };
+    let m = job.layout().margin();
     let pw = tile.width + 2 * m;
     let taken: u64 = pixels
         .iter()
@@ -705,10 +702,7 @@ fn check_tile(job: &Job<'_>, tile: Tile, pixels: &[PixelSum], stats: &TileStats)
 
 /// The sample counts of a tile's film: as a `.film` body's are checked.
 fn check_tile_counts(job: &Job<'_>, tile: Tile, pixels: &[PixelSum]) -> Result<()> {
-    let m = match job.splats() {
-        true => job.filter.splat_margin() as i64,
-        false => 0,
-    };
+    let m = job.layout().margin() as i64;
     let pw = tile.width as i64 + 2 * m;
     for (i, p) in pixels.iter().enumerate() {
         let (dx, dy) = (i as i64 % pw - m, i as i64 / pw - m);

@@ -11,11 +11,11 @@ use strata::filter::FilterKind;
 use strata::render::{PixelFilter, TextureFilter};
 
 use crate::image_io::Transfer;
+use crate::job::SamplerKind;
 use crate::limits::{
     MAX_DEPTH, MAX_MIN_TIME_MS, MAX_PANEL_WIDTH, MAX_PATTERN_PIXELS, MAX_PATTERN_SPP, MAX_RANGE,
     MAX_REPETITIONS, MAX_SEEDS, MAX_SPP, MAX_STUDY_SPP, MAX_THREADS, MAX_WIDTH,
 };
-use crate::render::SamplerKind;
 use crate::scenes::{BVH_THRESHOLD, BvhMode};
 
 /// Deterministic sampling and ray tracing of sphere scenes.
@@ -130,24 +130,72 @@ fn four<T: std::str::FromStr + Default + Copy>(s: &str, what: &str) -> Result<[T
     Ok(out)
 }
 
-/// `strata converge` flags.
+/// The flags every study (`converge`, `adaptive`, `filters`) takes: what
+/// it renders, on how many threads, how often, and where it keeps its
+/// references and rows.
 #[derive(Debug, Args)]
-pub struct ConvergeArgs {
+pub struct StudyArgs {
     /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
-    /// TOML scene file.
-    #[arg(long, default_value = "week09")]
-    pub scene: String,
+    /// TOML scene file [default: week09; caustics for `adaptive`].
+    #[arg(long)]
+    pub scene: Option<String>,
     /// Image width in pixels, height by the scene's aspect [default: the
     /// scene's].
     #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
     pub width: Option<u32>,
+    /// Ray segments per path [default: the scene's].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    pub max_depth: Option<u32>,
+    /// Seeds per measured point or row; the RMSE is the root of the mean
+    /// squared error over them [default: 1 for `converge`, 5 for
+    /// `adaptive`, 4 for `filters`].
+    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
+    pub seeds: Option<u32>,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
+    pub threads: u16,
+    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
+    /// ~/.cache/strata].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Also write the rows as CSV here [default for `converge`:
+    /// converge-SCENE.csv].
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+impl StudyArgs {
+    /// `--scene`, or the study's default scene.
+    #[must_use]
+    pub fn scene_or<'a>(&'a self, default: &'a str) -> &'a str {
+        self.scene.as_deref().unwrap_or(default)
+    }
+
+    /// `--seeds`, or the study's default count.
+    #[must_use]
+    pub fn seeds_or(&self, default: u32) -> u32 {
+        self.seeds.unwrap_or(default)
+    }
+
+    /// `--cache-dir`, or the user's cache directory.
+    #[must_use]
+    pub fn cache_dir(&self) -> PathBuf {
+        self.cache_dir
+            .clone()
+            .unwrap_or_else(crate::study::default_cache_dir)
+    }
+}
+
+/// `strata converge` flags.
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// The flags every study takes.
+    #[command(flatten)]
+    pub study: StudyArgs,
     /// The crop measured, `x0,x1,y0,y1` in pixels [default: the central
     /// half of the image in each direction].
     #[arg(long, value_parser = pixel_bounds)]
     pub pixel_bounds: Option<[u32; 4]>,
-    /// Ray segments per path [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
-    pub max_depth: Option<u32>,
     /// Samplers to measure, comma-separated [default: all].
     #[arg(long, value_enum, value_delimiter = ',')]
     pub samplers: Vec<SamplerKind>,
@@ -161,20 +209,6 @@ pub struct ConvergeArgs {
     /// largest measured spp.
     #[arg(long, default_value_t = 16384, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
     pub reference_spp: u32,
-    /// Seeds per point; the RMSE is the root of the mean squared error
-    /// over them.
-    #[arg(long, default_value_t = 1, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
-    pub seeds: u32,
-    /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
-    pub threads: u16,
-    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
-    /// ~/.cache/strata].
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// The CSV written [default: converge-SCENE.csv].
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
     /// The plot written, a PNG [default: converge-SCENE.png].
     #[arg(long)]
     pub plot: Option<PathBuf>,
@@ -196,21 +230,13 @@ pub const DEFAULT_THRESHOLD_TEXT: &str = "0.0004";
 /// `strata adaptive` flags.
 #[derive(Debug, Args)]
 pub struct AdaptiveArgs {
-    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
-    /// TOML scene file.
-    #[arg(long, default_value = "caustics")]
-    pub scene: String,
-    /// Image width in pixels, height by the scene's aspect [default: the
-    /// scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
-    pub width: Option<u32>,
+    /// The flags every study takes.
+    #[command(flatten)]
+    pub study: StudyArgs,
     /// The crop measured, `x0,x1,y0,y1` in pixels [default: the whole
     /// image].
     #[arg(long, value_parser = pixel_bounds)]
     pub pixel_bounds: Option<[u32; 4]>,
-    /// Ray segments per path [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
-    pub max_depth: Option<u32>,
     /// Pixel sampler of the adaptive and the uniform renders.
     #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
     pub sampler: SamplerKind,
@@ -224,34 +250,14 @@ pub struct AdaptiveArgs {
     /// --min-spp/4).
     #[arg(long, default_value_t = strata::render::Adaptive::DEFAULT_MAX, value_parser = value_parser!(u32).range(8..=MAX_SPP as i64))]
     pub max_spp: u32,
-    /// Seeds per row (adaptive and each uniform spp).
-    #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
-    pub seeds: u32,
-    /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
-    pub threads: u16,
-    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
-    /// ~/.cache/strata].
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// Also write the rows as CSV here.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
 }
 
 /// `strata filters` flags.
 #[derive(Debug, Args)]
 pub struct FiltersArgs {
-    /// A built-in scene (week09, cover, showcase, horizon, caustics) or a
-    /// TOML scene file.
-    #[arg(long, default_value = "week09")]
-    pub scene: String,
-    /// Image width in pixels, height by the scene's aspect.
-    #[arg(long, default_value_t = 320, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
-    pub width: u32,
-    /// Ray segments per path [default: the scene's].
-    #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_DEPTH as i64))]
-    pub max_depth: Option<u32>,
+    /// The flags every study takes.
+    #[command(flatten)]
+    pub study: StudyArgs,
     /// Pixel sampler of every render.
     #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
     pub sampler: SamplerKind,
@@ -266,23 +272,10 @@ pub struct FiltersArgs {
     /// times the largest measured spp.
     #[arg(long, default_value_t = 1024, value_parser = value_parser!(u32).range(1..=MAX_STUDY_SPP as i64))]
     pub reference_spp: u32,
-    /// Seeds per row.
-    #[arg(long, default_value_t = 4, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
-    pub seeds: u32,
     /// Times every render is timed (the first also measures its error);
     /// each filter's time against the box's is the median over them.
     #[arg(long, default_value_t = 5, value_parser = value_parser!(u32).range(1..=MAX_SEEDS as i64))]
     pub rounds: u32,
-    /// Worker threads.
-    #[arg(long, default_value_t = 2, value_parser = value_parser!(u16).range(1..=MAX_THREADS as i64))]
-    pub threads: u16,
-    /// Where references are cached [default: $XDG_CACHE_HOME/strata or
-    /// ~/.cache/strata].
-    #[arg(long)]
-    pub cache_dir: Option<PathBuf>,
-    /// Also write the rows as CSV here.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
 }
 
 /// `strata aliasing` flags.

@@ -29,7 +29,7 @@ use strata::render::PixelSum;
 use crate::film::{Film, RenderKey};
 use crate::hash::Fnv;
 use crate::image_io::Transfer;
-use crate::render::{Job, SamplerKind, run};
+use crate::job::{Job, SamplerKind, run};
 use crate::scenes::{BUILT_IN, SceneData, built_in, file};
 
 /// Image size of a golden render.

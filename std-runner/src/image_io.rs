@@ -14,6 +14,12 @@ use glam::Vec3;
 
 use crate::limits::MAX_TEXELS;
 
+/// Rec. 709 luminance in `f64`, as the studies and spectra measure it.
+#[must_use]
+pub fn luminance(v: Vec3) -> f64 {
+    0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64
+}
+
 /// An image texture's texels, linear RGB, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {

@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use strata::render::PixelSum;
 
 use crate::image_io::{Transfer, write_png_rgb8};
-use crate::render::SamplerKind;
+use crate::job::SamplerKind;
 
 /// plotters' drawing area over an 8-bit RGB buffer.
 pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;

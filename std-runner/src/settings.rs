@@ -12,8 +12,8 @@
 use anyhow::{Result, bail};
 
 use crate::cli::RenderArgs;
+use crate::job::SamplerKind;
 use crate::limits::{MAX_DEPTH, MAX_SPP, MAX_THREADS, MAX_TILE, MAX_WIDTH};
-use crate::render::SamplerKind;
 
 /// `value` of `flag` within `range`, or an error naming both.
 fn within<T: PartialOrd + std::fmt::Display>(
@@ -45,6 +45,28 @@ fn not_both(a: (&str, bool), b: (&str, bool)) -> Result<()> {
         bail!("{} cannot be used with {}", a.0, b.0);
     }
     Ok(())
+}
+
+/// `--min-spp`, `--max-spp` and the threshold (given with `flag`) as
+/// adaptive settings, or an error naming the flags.
+pub fn adaptive_settings(
+    min: u32,
+    max: u32,
+    threshold: f32,
+    flag: &str,
+) -> Result<strata::render::Adaptive> {
+    use strata::render::{Adaptive, AdaptiveError};
+    Adaptive::new(min, max, threshold).map_err(|e| match e {
+        AdaptiveError::Max => anyhow::anyhow!(
+            "--max-spp {max} is below --min-spp {min} (default {})",
+            Adaptive::DEFAULT_MIN
+        ),
+        AdaptiveError::Min => anyhow::anyhow!(
+            "--min-spp {min} must be a multiple of 4 of at least 8 (four blocks of at least 2 \
+             samples)"
+        ),
+        AdaptiveError::Threshold => anyhow::anyhow!("{flag} {threshold}: {e}"),
+    })
 }
 
 impl RenderArgs {
@@ -133,7 +155,7 @@ impl RenderArgs {
                 not_both(("--adaptive", true), ("--spp", self.spp.is_some()))?;
                 within("--min-spp", self.min_spp, 8..=MAX_SPP)?;
                 within("--max-spp", self.max_spp, 8..=MAX_SPP)?;
-                crate::commands::adaptive_settings(self.min_spp, self.max_spp, t, "--adaptive")?;
+                adaptive_settings(self.min_spp, self.max_spp, t, "--adaptive")?;
                 if self.sampler == SamplerKind::Grid {
                     bail!(
                         "--adaptive needs a sampler whose first samples spread over the pixel \

@@ -30,9 +30,9 @@ use plotters::prelude::*;
 use rayon::prelude::*;
 use strata::Sampler;
 
+use crate::job::{SamplerKind, WithSampler};
 use crate::limits::MAX_RANGE;
 use crate::plot;
-use crate::render::{SamplerKind, WithSampler};
 
 /// The averaged periodogram of one sampler.
 #[derive(Clone, Debug)]
@@ -257,7 +257,7 @@ impl ErrorSpectrum {
     pub fn add(&mut self, image: &[Vec3], reference: &[Vec3]) {
         let n = self.width * self.height;
         assert!(image.len() == n && reference.len() == n, "image size");
-        let lum = crate::study::luminance;
+        let lum = crate::image_io::luminance;
         let mut e: Vec<f64> = image
             .iter()
             .zip(reference)

@@ -14,21 +14,16 @@ use glam::Vec3;
 use plotters::prelude::*;
 use strata::render::Tile;
 
+pub use crate::image_io::luminance;
 use crate::image_io::write_atomic;
+use crate::job::{Job, SamplerKind, run};
 use crate::plot;
 use crate::progress::Phase;
-use crate::render::{Job, SamplerKind, run};
 use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 
 pub mod adaptive;
 pub mod filters;
-
-/// Rec. 709 luminance in `f64`, as the studies and spectra measure it.
-#[must_use]
-pub fn luminance(v: Vec3) -> f64 {
-    0.2126 * v.x as f64 + 0.7152 * v.y as f64 + 0.0722 * v.z as f64
-}
 
 /// Root mean square error over pixels and RGB channels, in f64.
 ///

@@ -60,7 +60,7 @@ fn golden_table_reproduces() {
     }
     // One thread gives the same hash as two.
     let data = golden::scene("cover").unwrap();
-    let one = golden::render_hash(&data, strata_runner::render::SamplerKind::Sobol, 1).unwrap();
+    let one = golden::render_hash(&data, strata_runner::job::SamplerKind::Sobol, 1).unwrap();
     assert_eq!(Some(one), golden::expected("cover", "sobol"));
 }
 

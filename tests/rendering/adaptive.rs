@@ -4,7 +4,7 @@
 //! paths. (Its exactness for any split is in `determinism`.)
 
 use strata::render::{Adaptive, PixelFilter, PixelSum, Tile};
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 
 pub(crate) fn job(scene: &SceneData, width: u32, height: u32, spp: u32, seed: u64) -> Job<'_> {

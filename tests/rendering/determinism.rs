@@ -24,7 +24,7 @@ use strata::render::{
 };
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 use strata_runner::film::{Film, RenderKey, merge};
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 
 use super::adaptive::{adaptive, job as adaptive_job};
@@ -114,7 +114,14 @@ fn sample_runs(points: &[u32]) -> Vec<std::ops::Range<u32>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+    // A fixed seed: the same twelve cases every run, so a failure on CI is
+    // the one a developer sees again.
+    #![proptest_config(ProptestConfig {
+        cases: 12,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_0d37),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn random_partitions_merge_to_the_one_shot_film(

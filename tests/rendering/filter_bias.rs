@@ -14,7 +14,7 @@
 //! reference's convolution would have to follow each.
 
 use strata::filter::{FilterKind, PixelFilter};
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::built_in;
 use strata_runner::study::luminance;
 

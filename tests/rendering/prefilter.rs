@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 use strata::render::{Texture, TextureFilter};
 use strata::rng::{Pcg32, STREAM, next_f32};
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::{SceneData, built_in};
 use strata_runner::study::rmse;
 

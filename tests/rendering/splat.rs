@@ -8,7 +8,7 @@ use glam::Vec3;
 use strata::filter::{FilterKind, PixelFilter};
 use strata::render::{PixelSum, Tile};
 use strata_runner::film::{Film, RenderKey, merge};
-use strata_runner::render::{Job, SamplerKind, run};
+use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::built_in;
 use strata_runner::study::luminance;
 
@@ -200,13 +200,13 @@ fn splatted_renders_are_the_same_for_any_threads_tiles_sample_runs_and_windows()
         // samples reach it, its pixels are the whole render's.
         let window = cut(9, 26, 4, 15);
         let m = filter(name).splat_margin();
-        let grown = strata_runner::film::extent(window, m, w, h);
+        let grown = window.grown(m, w, h);
         let j = Job {
             window: grown,
             ..one.clone()
         };
         let done = run(&j, &|_| {}).unwrap();
-        let outer = strata_runner::film::extent(grown, m, w, h);
+        let outer = grown.grown(m, w, h);
         let got = strata_runner::film::cut(&done.pixels, outer, window);
         let whole = strata_runner::film::cut(&want, Tile::whole(w, h), window);
         assert!(got == whole, "{name}: a window's image");

@@ -2,7 +2,7 @@
 //! spectrum, jittered ones little power at low frequencies, the uniform
 //! grid spikes at multiples of √spp and nothing between.
 
-use strata_runner::render::SamplerKind;
+use strata_runner::job::SamplerKind;
 use strata_runner::spectrum::spectrum;
 
 const SPP: u32 = 64;

@@ -354,7 +354,7 @@ fn builds_are_deterministic() {
 /// threads.
 #[test]
 fn renders_are_identical_with_and_without_the_bvh() {
-    use strata_runner::render::{Job, SamplerKind, run};
+    use strata_runner::job::{Job, SamplerKind, run};
     use strata_runner::scenes::{BUILT_IN, BvhMode, built_in};
     for name in BUILT_IN {
         let scene = built_in(name).unwrap();

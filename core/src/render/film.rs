@@ -237,6 +237,40 @@ impl PixelSum {
         self.dropped = self.dropped.saturating_add(other.dropped);
     }
 
+    /// Starts splatting into the pixel: while splats move its sums
+    /// directly ([`Splat`](super::Splat)), `own_minus_sum` holds the own
+    /// sums themselves (own − sum + sum, wrapping: exact), so that they do
+    /// not move with the splats' sums. [`PixelSum::end_splats`] restores
+    /// the invariant; between the two the pixel is not a valid sum.
+    #[inline]
+    pub(crate) fn begin_splats(&mut self) {
+        for (o, s) in self.own_minus_sum.iter_mut().zip(self.sum) {
+            *o = o.wrapping_add(s);
+        }
+    }
+
+    /// Ends [`PixelSum::begin_splats`]: `own_minus_sum` is own − sum
+    /// again, of the sums the splats left.
+    #[inline]
+    pub(crate) fn end_splats(&mut self) {
+        for (o, s) in self.own_minus_sum.iter_mut().zip(self.sum) {
+            *o = o.wrapping_sub(s);
+        }
+    }
+
+    /// Counts one of the pixel's own samples splatted into it, of
+    /// radiance `own` in the film's units, between
+    /// [`PixelSum::begin_splats`] and [`PixelSum::end_splats`]: its
+    /// radiance to the own sums, and the sample count (its weighted sums
+    /// came with the splat).
+    #[inline]
+    pub(crate) fn add_splatted_own(&mut self, own: [i64; 3]) {
+        for (o, l) in self.own_minus_sum.iter_mut().zip(own) {
+            *o = o.wrapping_add(l);
+        }
+        self.samples = self.samples.saturating_add(1);
+    }
+
     /// Whether [`PixelSum::mean`] is the box mean of the own samples
     /// (`own / n`) rather than the weighted mean (`sum / Σ w`): where
     /// `|Σ w| < n/2`, and with no samples. Never with weights of 1.

@@ -47,7 +47,6 @@ use super::camera::Camera;
 use super::material::{Lobe, Material, SurfaceHit};
 use super::scene::Scene;
 use super::texture::{TextureFilter, sphere_uv};
-use super::tile::TileStats;
 use crate::filter::PixelFilter;
 use crate::float::sqrtf;
 use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
@@ -141,6 +140,28 @@ fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
     }
 }
 
+/// What rendering traced: counted by the path tracer as it goes, per
+/// path, and summed per tile.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TileStats {
+    /// Camera paths (pixel samples).
+    pub paths: u64,
+    /// Closest-hit rays: camera rays and bounces.
+    pub rays: u64,
+    /// Any-hit shadow rays of direct lighting.
+    pub shadow_rays: u64,
+}
+
+impl TileStats {
+    /// Adds another tile's counts.
+    #[inline]
+    pub fn add(&mut self, other: &TileStats) {
+        self.paths += other.paths;
+        self.rays += other.rays;
+        self.shadow_rays += other.shadow_rays;
+    }
+}
+
 /// What one thread's tracing reuses and counts: the caller's BVH
 /// traversal stack (cleared once, not per ray) and the statistics.
 pub(crate) struct Scratch<'s> {
@@ -160,10 +181,13 @@ impl<'s> Scratch<'s> {
 
 /// Direct light at a smooth vertex from one light chosen by `u_choice`,
 /// towards a direction drawn by `u_dir`; MIS-weighted against the BSDF.
+/// `shadow_rays` counts the shadow ray when one is traced.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn direct_light(
     scene: &Scene<'_>,
-    scratch: &mut Scratch<'_>,
+    stack: &mut BvhStack,
+    shadow_rays: &mut u32,
     ray: &Ray,
     hit: Hit,
     surf: &SurfaceHit,
@@ -191,8 +215,8 @@ fn direct_light(
     let Some(t_light) = intersect_sphere(&light, &shadow) else {
         return Vec3::ZERO; // grazed the rim by rounding
     };
-    scratch.stats.shadow_rays += 1;
-    if scene.any_hit_with(&shadow.with_range(0.0, t_light), scratch.stack) {
+    *shadow_rays += 1;
+    if scene.any_hit_with(&shadow.with_range(0.0, t_light), stack) {
         return Vec3::ZERO;
     }
     let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
@@ -200,10 +224,71 @@ fn direct_light(
     f_cos * emit * (power_heuristic(pdf, bsdf_pdf) / pdf)
 }
 
+/// The dimensions a camera sample takes before its path's first vertex:
+/// the position in the pixel (0–1) and the lens (2–3).
+pub const CAMERA_DIMENSIONS: u32 = 4;
+
+/// The dimensions every path vertex takes, read or not.
+pub const VERTEX_DIMENSIONS: u32 = 6;
+
+/// What one path vertex draws from its sampler, as pbrt-v4's wavefront
+/// `RaySamples`: the vertex at the end of segment `s` reads dimensions
+/// `CAMERA_DIMENSIONS + VERTEX_DIMENSIONS·(s − 1)` on, in this order,
+/// whatever the path did before, so a dimension's index is a function of
+/// the depth alone. Dimensions a vertex does not read are skipped, not
+/// made (the skipped fields hold 0).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct VertexSamples {
+    /// The BSDF's direction (2D).
+    pub(crate) scatter: Vec2,
+    /// The BSDF's lobe or Fresnel choice (1D).
+    pub(crate) lobe: f32,
+    /// Which light direct lighting samples (1D).
+    pub(crate) light_choice: f32,
+    /// Where on that light's cone (2D).
+    pub(crate) light: Vec2,
+}
+
+impl VertexSamples {
+    /// Draws the vertex's six dimensions from `sampler`: those of the
+    /// BSDF as the material `reads` them (direction, lobe), and the light
+    /// sample's if `direct` (direct lighting at a smooth vertex).
+    #[inline(always)]
+    pub(crate) fn draw<S: Sampler>(sampler: &mut S, reads: (bool, bool), direct: bool) -> Self {
+        let (reads_u, reads_lobe) = reads;
+        let scatter = if reads_u {
+            sampler.next_2d()
+        } else {
+            sampler.skip_2d();
+            Vec2::ZERO
+        };
+        let lobe = if reads_lobe {
+            sampler.next_1d()
+        } else {
+            sampler.skip_1d();
+            0.0
+        };
+        let (light_choice, light) = if direct {
+            (sampler.next_1d(), sampler.next_2d())
+        } else {
+            sampler.skip_1d();
+            sampler.skip_2d();
+            (0.0, Vec2::ZERO)
+        };
+        Self {
+            scatter,
+            lobe,
+            light_choice,
+            light,
+        }
+    }
+}
+
 /// The radiance of one camera path that starts with `ray`, whose first
 /// hit (`first`) is already known, with the differential rays `diff` when
-/// textures are filtered. The sampler is positioned after the camera's
-/// four dimensions.
+/// textures are filtered, and the rays it traced (closest-hit and shadow:
+/// counted per path, so paths traced side by side count their own). The
+/// sampler is positioned after the camera's [`CAMERA_DIMENSIONS`].
 #[inline(always)]
 pub(crate) fn trace_path<S: Sampler>(
     scene: &Scene<'_>,
@@ -213,7 +298,7 @@ pub(crate) fn trace_path<S: Sampler>(
     mut ray: Ray,
     first: Option<Hit>,
     diff: Option<[Ray; 2]>,
-) -> Vec3 {
+) -> (Vec3, u32) {
     let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     // The last bounce: where it left from and its BSDF density (None for
@@ -221,9 +306,9 @@ pub(crate) fn trace_path<S: Sampler>(
     let mut last_smooth: Option<(Vec3, f32)> = None;
     let nee = settings.direct_lighting && !scene.lights().is_empty();
     let mut hit = first;
-    scratch.stats.paths += 1;
+    let (mut rays, mut shadow_rays) = (0u32, 0u32);
     for segment in 1..=settings.max_depth {
-        scratch.stats.rays += 1;
+        rays += 1;
         if segment > 1 {
             hit = scene.closest_hit_with(&ray, scratch.stack);
         }
@@ -251,31 +336,15 @@ pub(crate) fn trace_path<S: Sampler>(
         {
             surf.footprint = footprint(&surf, d);
         }
-        // Six dimensions a vertex; those it does not read are skipped, not
-        // made (their indices stay put).
-        let (reads_u, reads_lobe) = material.reads();
-        let u_scatter = if reads_u {
-            sampler.next_2d()
-        } else {
-            sampler.skip_2d();
-            Vec2::ZERO
-        };
-        let u_lobe = if reads_lobe {
-            sampler.next_1d()
-        } else {
-            sampler.skip_1d();
-            0.0
-        };
-        if nee && material.is_smooth() {
-            let u_choice = sampler.next_1d();
-            let u_light = sampler.next_2d();
+        let direct = nee && material.is_smooth();
+        let u = VertexSamples::draw(sampler, material.reads(), direct);
+        if direct {
+            let stack = &mut *scratch.stack;
+            let (c, l) = (u.light_choice, u.light);
             radiance +=
-                throughput * direct_light(scene, scratch, &ray, h, &surf, u_choice, u_light);
-        } else {
-            sampler.skip_1d();
-            sampler.skip_2d();
+                throughput * direct_light(scene, stack, &mut shadow_rays, &ray, h, &surf, c, l);
         }
-        let Some(s) = material.sample(ray.dir, &surf, u_scatter, u_lobe) else {
+        let Some(s) = material.sample(ray.dir, &surf, u.scatter, u.lobe) else {
             break;
         };
         throughput *= s.weight;
@@ -290,7 +359,10 @@ pub(crate) fn trace_path<S: Sampler>(
         let outside = surf.front_face != s.transmitted;
         ray = Ray::new(sphere.spawn_origin_along(surf.outward(), outside), s.wi);
     }
-    radiance
+    scratch.stats.paths += 1;
+    scratch.stats.rays += rays as u64;
+    scratch.stats.shadow_rays += shadow_rays as u64;
+    (radiance, rays + shadow_rays)
 }
 
 /// One camera sample: the ray, the filter weight, and what the
@@ -482,13 +554,98 @@ pub fn pixel_sample_with<S: Sampler>(
     let mut scratch = Scratch::new(stack);
     let first = scene.closest_hit_with(&c.ray, scratch.stack);
     let diff = c.differentials(camera, pixel, spacing);
-    let l = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, diff);
+    let (l, _) = trace_path(scene, &mut scratch, sampler, settings, c.ray, first, diff);
     (l, c.weight)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A sampler that counts the dimensions it hands out (drawn or
+    /// skipped) and the width of each step.
+    #[derive(Clone, Debug)]
+    struct Counting {
+        dimension: u32,
+        steps: [u8; 8],
+        n: usize,
+    }
+
+    impl Counting {
+        fn new() -> Self {
+            Self {
+                dimension: 0,
+                steps: [0; 8],
+                n: 0,
+            }
+        }
+        fn step(&mut self, w: u32) {
+            self.dimension += w;
+            self.steps[self.n] = w as u8;
+            self.n += 1;
+        }
+    }
+
+    impl Sampler for Counting {
+        fn samples_per_pixel(&self) -> u32 {
+            1
+        }
+        fn start_pixel_sample(&mut self, _: UVec2, _: u32) {
+            (self.dimension, self.n) = (2, 0);
+        }
+        fn pixel_2d(&mut self) -> Vec2 {
+            Vec2::splat(0.5)
+        }
+        fn next_1d(&mut self) -> f32 {
+            self.step(1);
+            0.5
+        }
+        fn next_2d(&mut self) -> Vec2 {
+            self.step(2);
+            Vec2::splat(0.5)
+        }
+        fn skip_1d(&mut self) {
+            self.step(1);
+        }
+        fn skip_2d(&mut self) {
+            self.step(2);
+        }
+    }
+
+    /// A camera sample takes [`CAMERA_DIMENSIONS`] (pinhole or lens), and
+    /// every vertex [`VERTEX_DIMENSIONS`] in the same steps (2, 1, 1, 2)
+    /// whatever it reads: so the vertex at the end of segment `s` starts
+    /// at `CAMERA_DIMENSIONS + VERTEX_DIMENSIONS·(s − 1)`.
+    #[test]
+    fn dimensions_are_a_function_of_the_depth() {
+        for defocus in [0.0, 2.0] {
+            let desc = crate::render::CameraDesc {
+                look_from: Vec3::new(0.0, 0.0, 5.0),
+                look_at: Vec3::ZERO,
+                up: Vec3::Y,
+                vfov_deg: 40.0,
+                defocus_angle_deg: defocus,
+                focus_dist: 5.0,
+            };
+            let camera = Camera::new(&desc, 4, 4).unwrap();
+            let mut s = Counting::new();
+            camera_ray(&camera, &PixelFilter::BOX, &mut s, UVec2::ZERO, 0);
+            assert_eq!(s.dimension, CAMERA_DIMENSIONS, "defocus {defocus}");
+        }
+        for reads in [(false, false), (true, false), (false, true), (true, true)] {
+            for direct in [false, true] {
+                let mut s = Counting::new();
+                s.start_pixel_sample(UVec2::ZERO, 0);
+                for vertex in 0..3 {
+                    let first = s.dimension;
+                    s.n = 0;
+                    VertexSamples::draw(&mut s, reads, direct);
+                    assert_eq!(s.dimension - first, VERTEX_DIMENSIONS);
+                    assert_eq!(s.steps[..s.n], [2, 1, 1, 2], "{reads:?} {direct} {vertex}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn power_heuristic_weights() {

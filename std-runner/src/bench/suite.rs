@@ -8,7 +8,7 @@ use strata::rng::{Pcg32, STREAM, next_f32};
 use strata::trace::*;
 use strata::{Halton, Independent, Sobol, Stratified, UniformGrid, ZSobol};
 
-use crate::render::{Job, run, run_with_sampler};
+use crate::job::{Job, run, run_with_sampler};
 use crate::scenes::{SceneBuffers, built_in};
 use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
 
@@ -190,8 +190,8 @@ fn render_cost(s: &mut Suite<'_>) -> Result<()> {
         ..Job::new(&scene, 160, 90, SPP)
     };
     let paths = (160 * 90 * SPP) as f64;
-    let seconds = |r: Result<crate::render::Rendered>| Ok(Done::Seconds(r?.wall.as_secs_f64()));
-    let mut cs: Vec<Contender<'_>> = crate::render::SamplerKind::ALL
+    let seconds = |r: Result<crate::job::Rendered>| Ok(Done::Seconds(r?.wall.as_secs_f64()));
+    let mut cs: Vec<Contender<'_>> = crate::job::SamplerKind::ALL
         .into_iter()
         .map(|kind| {
             let j = job(kind);
@@ -202,7 +202,7 @@ fn render_cost(s: &mut Suite<'_>) -> Result<()> {
             }
         })
         .collect();
-    let j = job(crate::render::SamplerKind::Independent);
+    let j = job(crate::job::SamplerKind::Independent);
     let slowed = Slowed(Independent::new(SPP, j.seed).expect("spp > 0"));
     cs.push(Contender {
         name: "slowed control".into(),

@@ -10,14 +10,15 @@ use crate::commands::{
     adaptive_settings, check_output_ext, check_pixels, height_for, resolve_scene, window_of,
 };
 use crate::image_io::say;
-use crate::render::SamplerKind;
+use crate::job::SamplerKind;
 use crate::study::{self, View};
 
 /// Runs `strata adaptive`: every flag checked, then the study, its table
 /// and, if asked for, its CSV.
 pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
-    let scene = resolve_scene(&args.scene)?;
-    let width = args.width.unwrap_or(scene.defaults.width);
+    let common = &args.study;
+    let scene = resolve_scene(common.scene_or("caustics"))?;
+    let width = common.width.unwrap_or(scene.defaults.width);
     let height = height_for(&scene, width, None)?;
     check_pixels(width, height, 1)?;
     let window = match args.pixel_bounds {
@@ -31,7 +32,7 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
         );
     }
     let adaptive = adaptive_settings(args.min_spp, args.max_spp, args.threshold, "--threshold")?;
-    if let Some(csv) = &args.csv {
+    if let Some(csv) = &common.csv {
         check_output_ext(csv, "csv", "--csv")?;
     }
     let view = View {
@@ -39,8 +40,8 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
         width,
         height,
         window,
-        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
-        threads: args.threads as usize,
+        max_depth: common.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: common.threads as usize,
         texture_filter: TextureFilter::None,
         filter: strata::render::PixelFilter::BOX,
     };
@@ -57,13 +58,16 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
         args.sampler.name(),
         adaptive
     ));
-    let cache_dir = args
-        .cache_dir
-        .clone()
-        .unwrap_or_else(study::default_cache_dir);
-    let report =
-        study::adaptive::study(&view, args.sampler, adaptive, args.seeds, &cache_dir, &say)?;
-    if let Some(csv) = &args.csv {
+    let cache_dir = common.cache_dir();
+    let report = study::adaptive::study(
+        &view,
+        args.sampler,
+        adaptive,
+        common.seeds_or(5),
+        &cache_dir,
+        &say,
+    )?;
+    if let Some(csv) = &common.csv {
         write_text(csv, &report.csv())?;
     }
     say(&report.table());

@@ -10,9 +10,9 @@ use strata::render::{TextureFilter, Tile};
 use crate::cli::{AliasingArgs, TextureFilterName};
 use crate::commands::{check_output_ext, check_pixels, height_for, resolve_scene};
 use crate::image_io::{Transfer, rgb8, say};
+use crate::job::SamplerKind;
 use crate::plot;
 use crate::progress::Phase;
-use crate::render::SamplerKind;
 use crate::study::{self, View};
 
 /// Runs `strata aliasing`: the checks, a panel per sampler, the reference

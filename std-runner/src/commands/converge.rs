@@ -14,10 +14,10 @@ use crate::commands::{
     check_output_ext, check_pixels, height_for, resolve_scene, samplers_or_all, window_of,
 };
 use crate::image_io::say;
+use crate::job::SamplerKind;
 use crate::limits::MAX_SPECTRUM_SIDE;
 use crate::plot;
 use crate::progress::Phase;
-use crate::render::SamplerKind;
 use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 use crate::study::{self, Point, View};
@@ -28,7 +28,7 @@ const PLOT_SIZE: (u32, u32) = (800, 560);
 /// Runs `strata converge`: the plan (every check), the reference, the
 /// measured points, the files, the table.
 pub fn converge(args: &ConvergeArgs) -> Result<()> {
-    let scene = resolve_scene(&args.scene)?;
+    let scene = resolve_scene(args.study.scene_or("week09"))?;
     let plan = args.plan(&scene)?;
     let view = &plan.view;
     let started = Instant::now();
@@ -51,13 +51,18 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
             format!("rendered in {:.1} s", started.elapsed().as_secs_f64())
         }
     ));
-    let total = study::converge_samples(view, plan.samplers.len(), &plan.spps, args.seeds);
+    let total = study::converge_samples(
+        view,
+        plan.samplers.len(),
+        &plan.spps,
+        args.study.seeds_or(1),
+    );
     let phase = Phase::start(
         &format!(
             "measuring: {} samplers at {} spp counts, {} seed(s)",
             plan.samplers.len(),
             plan.spps.len(),
-            args.seeds
+            args.study.seeds_or(1)
         ),
         total,
     );
@@ -65,7 +70,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         view,
         &plan.samplers,
         &plan.spps,
-        args.seeds,
+        args.study.seeds_or(1),
         &reference,
         plan.error_spectrum.is_some(),
         &|n| phase.inc(n),
@@ -86,7 +91,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
     write_all(&files)?;
     say(&study::table(&points, &plan.samplers, &plan.spps));
     if let Some(spectra) = &spectra {
-        say(&plan.error_spectrum_table(spectra, args.seeds));
+        say(&plan.error_spectrum_table(spectra, args.study.seeds_or(1)));
     }
     let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
     say(&format!("wrote {}", names.join(", ")));
@@ -141,7 +146,7 @@ impl ConvergeArgs {
     /// Checks every flag against `scene`: the size and crop, the spp
     /// list against the reference, the files.
     fn plan<'a>(&self, scene: &'a SceneData) -> Result<ConvergePlan<'a>> {
-        let width = self.width.unwrap_or(scene.defaults.width);
+        let width = self.study.width.unwrap_or(scene.defaults.width);
         let height = height_for(scene, width, None)?;
         check_pixels(width, height, 1)?;
         let window = match self.pixel_bounds {
@@ -177,7 +182,7 @@ impl ConvergeArgs {
             flag.clone()
                 .unwrap_or_else(|| PathBuf::from(format!("converge-{}.{ext}", scene.name)))
         };
-        let (csv, plot) = (named(&self.csv, "csv"), named(&self.plot, "png"));
+        let (csv, plot) = (named(&self.study.csv, "csv"), named(&self.plot, "png"));
         check_output_ext(&csv, "csv", "--csv")?;
         check_output_ext(&plot, "png", "--plot")?;
         let error_spectrum = match &self.error_spectrum {
@@ -219,8 +224,8 @@ impl ConvergeArgs {
                 width,
                 height,
                 window,
-                max_depth: self.max_depth.unwrap_or(scene.defaults.max_depth),
-                threads: self.threads as usize,
+                max_depth: self.study.max_depth.unwrap_or(scene.defaults.max_depth),
+                threads: self.study.threads as usize,
                 texture_filter: TextureFilter::None,
                 filter: strata::render::PixelFilter::BOX,
             },
@@ -228,10 +233,7 @@ impl ConvergeArgs {
             samplers: samplers_or_all(&self.samplers),
             csv,
             plot,
-            cache_dir: self
-                .cache_dir
-                .clone()
-                .unwrap_or_else(study::default_cache_dir),
+            cache_dir: self.study.cache_dir(),
             error_spectrum,
         })
     }

@@ -18,9 +18,11 @@ const REFERENCE_FACTOR: u32 = 16;
 /// Runs `strata filters`: every flag checked, then the study, its table
 /// and, if asked for, its CSV.
 pub fn filters(args: &FiltersArgs) -> Result<()> {
-    let scene = resolve_scene(&args.scene)?;
-    let height = height_for(&scene, args.width, None)?;
-    check_pixels(args.width, height, 1)?;
+    let common = &args.study;
+    let scene = resolve_scene(common.scene_or("week09"))?;
+    let width = common.width.unwrap_or(scene.defaults.width);
+    let height = height_for(&scene, width, None)?;
+    check_pixels(width, height, 1)?;
     // Each spp and filter once, the spps ascending (the box's rate is
     // measured between neighbours).
     let mut spps = args.spps.clone();
@@ -34,7 +36,7 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
             args.reference_spp
         );
     }
-    if let Some(csv) = &args.csv {
+    if let Some(csv) = &common.csv {
         check_output_ext(csv, "csv", "--csv")?;
     }
     let mut names: Vec<FilterName> = match args.filters.is_empty() {
@@ -53,43 +55,40 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let view = View {
         scene: &scene,
-        width: args.width,
+        width,
         height,
-        window: Tile::whole(args.width, height),
-        max_depth: args.max_depth.unwrap_or(scene.defaults.max_depth),
-        threads: args.threads as usize,
+        window: Tile::whole(width, height),
+        max_depth: common.max_depth.unwrap_or(scene.defaults.max_depth),
+        threads: common.threads as usize,
         texture_filter: TextureFilter::None,
         filter: strata::render::PixelFilter::BOX,
     };
     say(&format!(
         "{}: {}x{}, depth {}, {}, spp {:?}, {} seed(s), timed {} time(s)",
         scene.name,
-        args.width,
+        width,
         height,
         view.max_depth,
         args.sampler.name(),
         spps,
-        args.seeds,
+        common.seeds_or(4),
         args.rounds
     ));
-    let cache_dir = args
-        .cache_dir
-        .clone()
-        .unwrap_or_else(study::default_cache_dir);
+    let cache_dir = common.cache_dir();
     let report = study::filters::study(
         &view,
         args.sampler,
         &filters,
         &study::filters::Settings {
             spps,
-            seeds: args.seeds,
+            seeds: common.seeds_or(4),
             rounds: args.rounds,
             reference_spp: args.reference_spp,
         },
         &cache_dir,
         &say,
     )?;
-    if let Some(csv) = &args.csv {
+    if let Some(csv) = &common.csv {
         write_text(csv, &report.csv())?;
     }
     say(&report.table());

@@ -25,9 +25,10 @@ use strata::render::Tile;
 
 use crate::cli::{Cli, Command};
 use crate::image_io::{check_writable_dir, say};
+use crate::job::SamplerKind;
 use crate::limits::{MAX_PIXELS, MAX_WIDTH};
-use crate::render::SamplerKind;
 use crate::scenes::{BUILT_IN, SceneData, built_in, file};
+pub(crate) use crate::settings::adaptive_settings;
 
 /// Runs a parsed command line; what `main` calls.
 pub fn run(cli: Cli) -> Result<()> {
@@ -51,28 +52,6 @@ pub fn run(cli: Cli) -> Result<()> {
             _ => unreachable!("`render` parses as the render subcommand"),
         },
     }
-}
-
-/// `--min-spp`, `--max-spp` and the threshold (given with `flag`) as
-/// adaptive settings, or an error naming the flags.
-pub(crate) fn adaptive_settings(
-    min: u32,
-    max: u32,
-    threshold: f32,
-    flag: &str,
-) -> Result<strata::render::Adaptive> {
-    use strata::render::{Adaptive, AdaptiveError};
-    Adaptive::new(min, max, threshold).map_err(|e| match e {
-        AdaptiveError::Max => anyhow::anyhow!(
-            "--max-spp {max} is below --min-spp {min} (default {})",
-            Adaptive::DEFAULT_MIN
-        ),
-        AdaptiveError::Min => anyhow::anyhow!(
-            "--min-spp {min} must be a multiple of 4 of at least 8 (four blocks of at least 2 \
-             samples)"
-        ),
-        AdaptiveError::Threshold => anyhow::anyhow!("{flag} {threshold}: {e}"),
-    })
 }
 
 /// Loads `--scene`: a built-in name, or a path to a TOML file.

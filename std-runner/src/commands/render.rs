@@ -16,10 +16,10 @@ use crate::commands::output::{
 use crate::commands::{
     adaptive_settings, check_output_ext, check_pixels, height_for, resolve_scene, window_of,
 };
-use crate::film::{Film, RenderKey, extent, is_film_path, samples_text, window_text};
+use crate::film::{Film, RenderKey, is_film_path, samples_text, window_text};
 use crate::image_io::{Transfer, check_writable_dir, say};
+use crate::job::{Job, Outcome, Rendered, Resume, TileFilm, run_resumable};
 use crate::progress::Phase;
-use crate::render::{Job, Outcome, Rendered, Resume, TileFilm, run_resumable};
 use crate::scenes::SceneData;
 use crate::scenes::built_in;
 
@@ -448,8 +448,9 @@ impl RenderArgs {
             ..Job::new(scene, width, height, spp)
         };
         let mut image_window = None;
-        if job.splats() && !is_film_path(&output) && window != Tile::whole(width, height) {
-            job.window = extent(window, filter.splat_margin(), width, height);
+        let layout = job.layout();
+        if layout.splats() && !is_film_path(&output) && window != Tile::whole(width, height) {
+            job.window = layout.extent(window, width, height);
             image_window = Some(window);
         }
         Ok(RenderPlan {

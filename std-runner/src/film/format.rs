@@ -50,12 +50,8 @@ impl FilmHead {
     /// the image.
     #[must_use]
     pub fn extent(&self) -> strata::render::Tile {
-        super::extent(
-            self.window,
-            self.border,
-            self.key.width(),
-            self.key.height(),
-        )
+        self.window
+            .grown(self.border, self.key.width(), self.key.height())
     }
 
     /// The header's text, the empty line that ends it included.

@@ -7,7 +7,7 @@ use std::ops::Range;
 use anyhow::{Context, Result, bail};
 use strata::render::Tile;
 
-use crate::render::Job;
+use crate::job::Job;
 
 /// What defines a render's pixels: two parts merge only if every field
 /// agrees. Values are kept as the strings written to files, so comparing
@@ -128,10 +128,7 @@ impl RenderKey {
     #[must_use]
     pub fn border(&self) -> Option<u32> {
         let filter = parse_filter(self.get("filter")?)?;
-        Some(match filter.splats() && self.adaptive.is_none() {
-            true => filter.splat_margin(),
-            false => 0,
-        })
+        Some(strata::render::Layout::of(&filter, self.adaptive.is_some()).margin())
     }
 
     /// The key of a film header's fields (`get(name)` gives each field's
@@ -216,9 +213,7 @@ fn canonical(name: &str, v: &str) -> Option<bool> {
                 .map(|n| n.to_string()),
         ),
         "seed" => same(v.parse::<u64>().ok().map(|n| n.to_string())),
-        "sampler" => crate::render::SamplerKind::ALL
-            .iter()
-            .any(|s| s.name() == v),
+        "sampler" => crate::job::SamplerKind::ALL.iter().any(|s| s.name() == v),
         "direct_lighting" => v == "true" || v == "false",
         "filter" => same(parse_filter(v).map(|f| filter_text(&f))),
         "adaptive" => same(parse_adaptive(v).map(adaptive_text)),

@@ -200,7 +200,7 @@ impl Merged {
         drop(covered);
         // One key, one border: each part's is checked against the key.
         let border = first.border;
-        let extent = super::extent(window, border, w, h);
+        let extent = window.grown(border, w, h);
         Ok(Merged {
             window,
             samples: s0..s1,

@@ -94,22 +94,6 @@ pub struct Film {
     pub pixels: Vec<PixelSum>,
 }
 
-/// `window` grown by `border` pixels on each side, clipped to a `width ×
-/// height` image.
-#[must_use]
-pub fn extent(window: Tile, border: u32, width: u32, height: u32) -> Tile {
-    let x0 = window.x0.saturating_sub(border);
-    let y0 = window.y0.saturating_sub(border);
-    let x1 = (window.x0 as u64 + window.width as u64 + border as u64).min(width as u64) as u32;
-    let y1 = (window.y0 as u64 + window.height as u64 + border as u64).min(height as u64) as u32;
-    Tile {
-        x0,
-        y0,
-        width: x1.saturating_sub(x0),
-        height: y1.saturating_sub(y0),
-    }
-}
-
 /// The pixels of `inner` (inside `outer`) out of `pixels`, `outer`'s,
 /// row-major.
 #[must_use]
@@ -128,12 +112,8 @@ impl Film {
     /// the image.
     #[must_use]
     pub fn extent(&self) -> Tile {
-        extent(
-            self.window,
-            self.border,
-            self.key.width(),
-            self.key.height(),
-        )
+        self.window
+            .grown(self.border, self.key.width(), self.key.height())
     }
 
     /// The accumulators of the window's pixels (the owned ones), row-major.

@@ -27,8 +27,8 @@ use strata::render::Adaptive;
 
 use super::{View, luminance};
 use crate::bench::harness::process_cpu_seconds;
+use crate::job::{Job, SamplerKind, run};
 use crate::limits::MAX_STUDY_SPP;
-use crate::render::{Job, SamplerKind, run};
 
 /// The ε of relMSE, `(x − r)² / (r² + ε)`.
 pub const REL_EPSILON: f64 = 0.01;

@@ -10,7 +10,7 @@
 //! the reference's sign is itself uncertain), the
 //! pixels that fell back to their box mean, and the mean luminance
 //! against the box's at the same spp. Cost is a render's wall time
-//! ([`crate::render::Rendered::wall`]: its BVH and its tracing, on the
+//! ([`crate::job::Rendered::wall`]: its BVH and its tracing, on the
 //! view's threads), measured with the renders interleaved, filter by
 //! filter within each seed, and again in further rounds: a filter's time
 //! against the box's is the median, over seeds and rounds, of its render's
@@ -28,7 +28,7 @@ use strata::render::{PixelFilter, PixelSum};
 
 use super::{View, luminance, rmse};
 use crate::film::filter_text;
-use crate::render::{Job, SamplerKind, run};
+use crate::job::{Job, SamplerKind, run};
 
 /// A reference value from which a negative pixel counts as noise: 1 % of
 /// white, above the reference's own error on the study's scenes.
@@ -60,7 +60,7 @@ pub struct Row {
     pub pixels: u64,
     /// Mean luminance over pixels and seeds.
     pub mean_luminance: f64,
-    /// The median wall seconds of one render ([`crate::render::Rendered::wall`]).
+    /// The median wall seconds of one render ([`crate::job::Rendered::wall`]).
     pub seconds: f64,
     /// The median over renders of the time against the box's render of
     /// the same seed and round (NaN where unknown).

@@ -13,8 +13,8 @@ use anyhow::{Context, Result, anyhow};
 use glam::UVec2;
 use rayon::prelude::*;
 use strata::render::{
-    Adaptive, Camera, PixelSum, RenderSettings, Scene, Tile, TileStats, render_tile,
-    render_tile_adaptive, render_tile_splat, splat_film_size,
+    Adaptive, Camera, Layout, PixelSum, RenderSettings, Scene, Tile, TileRenderer, TileStats,
+    render_tile, render_tile_adaptive, render_tile_splat,
 };
 use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
@@ -177,11 +177,11 @@ impl<'a> Job<'a> {
 }
 
 impl Job<'_> {
-    /// Whether the job splats its filter (one with negative lobes, not
-    /// adaptive): its tiles then fill films with a margin.
+    /// How the job's films are laid out (the core's one answer): which
+    /// tile renderer runs, and the margin its films hold.
     #[must_use]
-    pub fn splats(&self) -> bool {
-        self.filter.splats() && self.adaptive.is_none()
+    pub fn layout(&self) -> Layout {
+        Layout::of(&self.filter, self.adaptive.is_some())
     }
 }
 
@@ -192,7 +192,7 @@ pub struct Rendered {
     /// holds (with counts of 0): a splatted filter's margin, else 0.
     pub border: u32,
     /// One accumulator per pixel of the job's window grown by `border`
-    /// and clipped to the image ([`crate::film::extent`]), row-major: the
+    /// and clipped to the image ([`Layout::extent`]), row-major: the
     /// window's alone unless the filter splats and the window is not the
     /// whole image.
     pub pixels: Vec<PixelSum>,
@@ -243,10 +243,7 @@ pub enum Outcome {
 /// the image).
 #[must_use]
 pub fn tile_side(job: &Job<'_>) -> u32 {
-    match job.splats() {
-        true => job.tile.max(4 * job.filter.splat_margin()),
-        false => job.tile,
-    }
+    job.tile.max(4 * job.layout().margin())
 }
 
 /// The job's tiles, in the order [`run`] indexes them.
@@ -258,12 +255,9 @@ pub fn job_tiles(job: &Job<'_>) -> Vec<Tile> {
 /// The length of a tile's film in `job`: the tile, or for a splatted
 /// filter the tile and its margin a side.
 pub fn tile_film_len(job: &Job<'_>, tile: Tile) -> Result<usize> {
-    let (pw, ph) = match job.splats() {
-        true => splat_film_size(&job.filter, tile)
-            .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))?,
-        false => (tile.width, tile.height),
-    };
-    Ok(pw as usize * ph as usize)
+    job.layout()
+        .film_len(tile)
+        .ok_or_else(|| anyhow!("tile {}: too large", bounds_text(tile)))
 }
 
 /// The tiles of `window`, row-major, `side × side` except at its right
@@ -360,7 +354,7 @@ fn resumable(
              the grid fills its rows in order"
         ));
     }
-    let splat = job.splats();
+    let layout = job.layout();
     if let Some(a) = job.adaptive
         && (a.max() != job.spp || job.samples != (0..job.spp))
     {
@@ -424,8 +418,8 @@ fn resumable(
     // Index order, whichever run rendered a tile: the splatted sums are
     // added in one order always.
     films.sort_unstable_by_key(|f| f.0);
-    let border = if splat { job.filter.splat_margin() } else { 0 };
-    let out = crate::film::extent(w, border, job.width, job.height);
+    let border = layout.margin();
+    let out = layout.extent(w, job.width, job.height);
     let mut pixels = vec![PixelSum::ZERO; out.area()];
     let mut stats = TileStats::default();
     for (i, film, tile_stats) in films {
@@ -518,19 +512,15 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
                 return Ok(None);
             }
             let mut film = vec![PixelSum::ZERO; tile_film_len(job, tile)?];
-            let stats = match job.adaptive {
-                Some(a) => {
+            let samples = job.samples.clone();
+            let stats = match (job.layout().renderer(), job.adaptive) {
+                (TileRenderer::Adaptive, Some(a)) => {
                     render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
                 }
-                None => {
-                    // The two uniform renderers take the same arguments.
-                    let uniform = match job.splats() {
-                        true => render_tile_splat::<S>,
-                        false => render_tile::<S>,
-                    };
-                    let samples = job.samples.clone();
-                    uniform(scene, camera, &sampler, settings, tile, samples, &mut film)
+                (TileRenderer::Splat, _) => {
+                    render_tile_splat(scene, camera, &sampler, settings, tile, samples, &mut film)
                 }
+                _ => render_tile(scene, camera, &sampler, settings, tile, samples, &mut film),
             }
             .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
             let out = (i as u32, film, stats);
