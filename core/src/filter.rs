@@ -498,7 +498,9 @@ impl PixelFilter {
     /// samples can sum to a weight near 0 or below: speckles and dark
     /// pixels. Splatted, every sample adds `f(x − p)·L` and `f(x − p)` to
     /// every pixel `p` its filter reaches, and each pixel's sum of weights
-    /// is close to its sample count.
+    /// is close to its sample count. (An adaptive render samples every
+    /// filter by importance all the same: whether a render splats is
+    /// [`Layout::splats`](crate::render::Layout::splats).)
     ///
     /// ```
     /// use strata::filter::{FilterKind, PixelFilter};

@@ -676,8 +676,9 @@ impl Saved {
 /// `max_depth` rays and shadow rays a path).
 fn check_tile(job: &Job<'_>, tile: Tile, pixels: &[PixelSum], stats: &TileStats) -> Result<()> {
     check_tile_counts(job, tile, pixels)?;
-    let m = job.layout().margin();
-    let pw = tile.width + 2 * m;
+    let layout = job.layout();
+    let m = layout.margin();
+    let pw = layout.film_size(tile).map_or(0, |s| s.0);
     let taken: u64 = pixels
         .iter()
         .enumerate()
@@ -702,8 +703,9 @@ fn check_tile(job: &Job<'_>, tile: Tile, pixels: &[PixelSum], stats: &TileStats)
 
 /// The sample counts of a tile's film: as a `.film` body's are checked.
 fn check_tile_counts(job: &Job<'_>, tile: Tile, pixels: &[PixelSum]) -> Result<()> {
-    let m = job.layout().margin() as i64;
-    let pw = tile.width as i64 + 2 * m;
+    let layout = job.layout();
+    let m = layout.margin() as i64;
+    let pw = layout.film_size(tile).map_or(0, |s| s.0) as i64;
     for (i, p) in pixels.iter().enumerate() {
         let (dx, dy) = (i as i64 % pw - m, i as i64 / pw - m);
         let owned = (0..tile.width as i64).contains(&dx) && (0..tile.height as i64).contains(&dy);

@@ -140,7 +140,7 @@ pub struct StudyArgs {
     #[arg(long)]
     pub scene: Option<String>,
     /// Image width in pixels, height by the scene's aspect [default: the
-    /// scene's].
+    /// scene's; 320 for `filters`].
     #[arg(long, value_parser = value_parser!(u32).range(1..=MAX_WIDTH as i64))]
     pub width: Option<u32>,
     /// Ray segments per path [default: the scene's].
@@ -175,14 +175,6 @@ impl StudyArgs {
     #[must_use]
     pub fn seeds_or(&self, default: u32) -> u32 {
         self.seeds.unwrap_or(default)
-    }
-
-    /// `--cache-dir`, or the user's cache directory.
-    #[must_use]
-    pub fn cache_dir(&self) -> PathBuf {
-        self.cache_dir
-            .clone()
-            .unwrap_or_else(crate::study::default_cache_dir)
     }
 }
 

@@ -425,8 +425,8 @@ fn resumable(
     for (i, film, tile_stats) in films {
         let tile = all[i as usize];
         stats.add(&tile_stats);
-        if border > 0 {
-            add_splatted(&mut pixels, out, tile, border, &film);
+        if layout.splats() {
+            add_splatted(&mut pixels, out, tile, layout, &film);
             continue;
         }
         for row in 0..tile.height {
@@ -444,11 +444,14 @@ fn resumable(
     }))
 }
 
-/// Adds a splatted tile's film (the tile and `margin` pixels around it)
-/// into `pixels`, those of `w` (the window and its border, clipped to the
-/// image); entries outside it (outside the image) are dropped.
-fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, margin: u32, film: &[PixelSum]) {
-    let pw = (tile.width + 2 * margin) as usize;
+/// Adds a splatted tile's film (the tile and its margin, as `layout`
+/// lays it out) into `pixels`, those of `w` (the window and its border,
+/// clipped to the image); entries outside it (outside the image) are
+/// dropped.
+fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, layout: Layout, film: &[PixelSum]) {
+    let margin = layout.margin();
+    // (The film was sized by the same layout, so its size is known.)
+    let pw = layout.film_size(tile).map_or(0, |s| s.0) as usize;
     for (i, p) in film.iter().enumerate() {
         let x = (tile.x0 as i64) - margin as i64 + (i % pw) as i64 - w.x0 as i64;
         let y = (tile.y0 as i64) - margin as i64 + (i / pw) as i64 - w.y0 as i64;
@@ -513,14 +516,19 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
             }
             let mut film = vec![PixelSum::ZERO; tile_film_len(job, tile)?];
             let samples = job.samples.clone();
-            let stats = match (job.layout().renderer(), job.adaptive) {
-                (TileRenderer::Adaptive, Some(a)) => {
+            let stats = match job.layout().renderer() {
+                TileRenderer::Adaptive => {
+                    let a = job
+                        .adaptive
+                        .ok_or_else(|| anyhow!("an adaptive layout without adaptive settings"))?;
                     render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
                 }
-                (TileRenderer::Splat, _) => {
+                TileRenderer::Splat => {
                     render_tile_splat(scene, camera, &sampler, settings, tile, samples, &mut film)
                 }
-                _ => render_tile(scene, camera, &sampler, settings, tile, samples, &mut film),
+                TileRenderer::Uniform => {
+                    render_tile(scene, camera, &sampler, settings, tile, samples, &mut film)
+                }
             }
             .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
             let out = (i as u32, film, stats);

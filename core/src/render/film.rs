@@ -411,6 +411,28 @@ impl PixelSum {
 mod tests {
     use super::*;
 
+    /// Between `begin_splats` and `end_splats` the sums move alone and the
+    /// own sums stay: the pixel ends as if its own samples had been added
+    /// and the splats' sums merged, in any order.
+    #[test]
+    fn splats_leave_the_own_sums_alone() {
+        let mut p = PixelSum::ZERO;
+        p.add_weighted(Vec3::new(0.5, 1.0, 2.0), 0.25);
+        let own_before = p.own();
+        p.begin_splats();
+        for (c, s) in p.sum.iter_mut().enumerate() {
+            *s = s.wrapping_add(1000 * (c as i64 + 1));
+        }
+        let own = [to_fixed(0.75), to_fixed(-0.5), to_fixed(3.0)];
+        p.add_splatted_own(own);
+        p.end_splats();
+        let got = p.own();
+        for c in 0..3 {
+            assert_eq!(got[c], own_before[c].wrapping_add(own[c]), "channel {c}");
+        }
+        assert_eq!(p.samples, 2);
+    }
+
     #[test]
     fn to_fixed_rounds_as_roundf_does() {
         let check = |x: f32| {

@@ -567,7 +567,7 @@ mod tests {
     #[derive(Clone, Debug)]
     struct Counting {
         dimension: u32,
-        steps: [u8; 8],
+        steps: [u8; 64],
         n: usize,
     }
 
@@ -575,13 +575,13 @@ mod tests {
         fn new() -> Self {
             Self {
                 dimension: 0,
-                steps: [0; 8],
+                steps: [0; 64],
                 n: 0,
             }
         }
         fn step(&mut self, w: u32) {
             self.dimension += w;
-            self.steps[self.n] = w as u8;
+            self.steps[self.n % 64] = w as u8;
             self.n += 1;
         }
     }
@@ -618,6 +618,55 @@ mod tests {
     /// at `CAMERA_DIMENSIONS + VERTEX_DIMENSIONS·(s − 1)`.
     #[test]
     fn dimensions_are_a_function_of_the_depth() {
+        // A whole path: the camera inside a closed diffuse sphere, so
+        // every path reaches max_depth, whose last vertex draws nothing.
+        use crate::render::{Background, Material, SceneStorage, SceneStorageSize, Texture};
+        use crate::trace::{Sphere, SphereChunk8};
+        let spheres = [Sphere::new(Vec3::ZERO, 10.0)];
+        let materials = [Material::Lambertian {
+            albedo: Texture::Solid(Vec3::splat(0.5)),
+        }];
+        const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(1, false);
+        let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; SIZE.chunks], [0u32; SIZE.lights]);
+        let storage = SceneStorage {
+            chunks: &mut chunks,
+            lights: &mut lights,
+            bvh_nodes: &mut [],
+            bvh_lanes: &mut [],
+            bvh_ids: &mut [],
+        };
+        let scene = Scene::build(
+            &spheres,
+            &materials,
+            &[0],
+            Background::Flat(Vec3::ONE),
+            storage,
+        )
+        .unwrap();
+        let desc = crate::render::CameraDesc {
+            look_from: Vec3::ZERO,
+            look_at: Vec3::Z,
+            up: Vec3::Y,
+            vfov_deg: 60.0,
+            defocus_angle_deg: 0.0,
+            focus_dist: 1.0,
+        };
+        let camera = Camera::new(&desc, 4, 4).unwrap();
+        for depth in [1, 2, 5, 9] {
+            let settings = RenderSettings {
+                max_depth: depth,
+                direct_lighting: true,
+                filter: PixelFilter::BOX,
+                texture_filter: TextureFilter::None,
+            };
+            let mut s = Counting::new();
+            pixel_sample(&scene, &camera, &mut s, &settings, UVec2::new(1, 2), 0);
+            assert_eq!(
+                s.dimension,
+                CAMERA_DIMENSIONS + VERTEX_DIMENSIONS * (depth - 1),
+                "depth {depth}"
+            );
+        }
         for defocus in [0.0, 2.0] {
             let desc = crate::render::CameraDesc {
                 look_from: Vec3::new(0.0, 0.0, 5.0),

@@ -255,6 +255,9 @@ fn fixed_taps(x: &[f32; SPLAT_SIDE], scale: f32) -> Option<[i64; SPLAT_SIDE]> {
 #[inline]
 #[must_use]
 pub fn splat_film_size(filter: &PixelFilter, tile: Tile) -> Option<(u32, u32)> {
+    // For any filter this renderer is given; a render that chooses its
+    // renderer by `Layout` splats only filters that splat, and there it
+    // is `Layout::film_size`.
     padded(tile, filter.splat_margin())
 }
 

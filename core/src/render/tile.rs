@@ -62,7 +62,8 @@ impl Tile {
 }
 impl Tile {
     /// The tile grown by `margin` pixels on every side and clipped to a
-    /// `width × height` image (empty, at `(0, 0)`, if nothing is left).
+    /// `width × height` image (of width or height 0 if nothing of it is
+    /// left inside).
     ///
     /// ```
     /// use strata::render::Tile;
@@ -456,4 +457,95 @@ pub(super) fn for_each_group<S: Sampler + Clone>(
         }
     }
     scratch.stats
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::filter::FilterKind;
+
+    fn filter(name: &str, r: f32) -> PixelFilter {
+        PixelFilter::new(FilterKind::named(name).unwrap(), r).unwrap()
+    }
+
+    /// One rule: only filters that splat, and only without adaptive
+    /// sampling, splat; then with the filter's margin, else none (a wide
+    /// Gaussian is importance-sampled: its films hold no margin).
+    #[test]
+    fn the_layout_is_the_splat_rule() {
+        for (name, r) in [
+            ("box", 0.5),
+            ("tent", 1.0),
+            ("gaussian", 1.5),
+            ("mitchell", 2.0),
+            ("lanczos", 3.0),
+        ] {
+            let f = filter(name, r);
+            let plain = Layout::of(&f, false);
+            assert_eq!(plain.splats(), f.splats(), "{name}");
+            assert_eq!(
+                plain.margin(),
+                if f.splats() { f.splat_margin() } else { 0 }
+            );
+            let want = if f.splats() {
+                TileRenderer::Splat
+            } else {
+                TileRenderer::Uniform
+            };
+            assert_eq!(plain.renderer(), want, "{name}");
+            let adaptive = Layout::of(&f, true);
+            assert_eq!(
+                (adaptive.renderer(), adaptive.margin()),
+                (TileRenderer::Adaptive, 0)
+            );
+        }
+        assert_eq!(filter("gaussian", 1.5).splat_margin(), 1);
+    }
+
+    #[test]
+    fn films_hold_the_tile_and_the_margin_clipped_to_the_image() {
+        let l = Layout::of(&filter("lanczos", 3.0), false);
+        let t = Tile {
+            x0: 1,
+            y0: 0,
+            width: 4,
+            height: 2,
+        };
+        assert_eq!(l.film_size(t), Some((10, 8)));
+        assert_eq!(l.film_len(t), Some(80));
+        assert_eq!(
+            l.extent(t, 6, 6),
+            Tile {
+                x0: 0,
+                y0: 0,
+                width: 6,
+                height: 5
+            }
+        );
+        // A window at the far edge: clipped there.
+        let edge = Tile {
+            x0: 5,
+            y0: 5,
+            width: 1,
+            height: 1,
+        };
+        assert_eq!(
+            l.extent(edge, 6, 6),
+            Tile {
+                x0: 2,
+                y0: 2,
+                width: 4,
+                height: 4
+            }
+        );
+        // Sizes that overflow are refused, not wrapped.
+        let huge = Tile {
+            x0: 0,
+            y0: 0,
+            width: u32::MAX - 2,
+            height: 1,
+        };
+        assert_eq!(l.film_size(huge), None);
+        assert_eq!(l.film_len(huge), None);
+    }
 }

@@ -1,6 +1,6 @@
 //! The strata engine of the grid and the stratified sampler: `spp`
 //! strata per dimension (an `nx × ny` grid for a 2D draw), shuffled per
-//! dimension with Kensler's permutation ([`super::permute`]), sixteen
+//! dimension with Kensler's permutation ([`permute`](fn@super::permute)), sixteen
 //! dimensions at a time; with jitter ([`Stratified`]) each point is
 //! uniform in its stratum, without ([`UniformGrid`]) it is the stratum's
 //! centre. One engine, `Strata<JITTER>`, serves both.
@@ -192,7 +192,7 @@ fn jitter_block(out: &mut [u32; STRATA_BLOCK + 1], key: u64, block: u32) {
 /// between them, as in pbrt's `StratifiedSampler`: without jitter every
 /// point is a stratum centre, no jitter word is hashed, and the pixel
 /// positions keep their grid's raster order instead of being shuffled.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Strata<const JITTER: bool> {
     spp: u32,
     /// The strata of a 1D draw (`spp`) and of a 2D draw's two axes.
@@ -220,6 +220,24 @@ pub struct Strata<const JITTER: bool> {
     sample_key: u64,
     jitter: [u32; STRATA_BLOCK + 1],
     pixel_2d: Vec2,
+}
+
+/// Named as the kind it is (`UniformGrid` or `Stratified`), with its
+/// settings and position; the caches are left out.
+impl<const JITTER: bool> core::fmt::Debug for Strata<JITTER> {
+    #[inline]
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct(if JITTER { "Stratified" } else { "UniformGrid" })
+            .field("spp", &self.spp)
+            .field("seed", &self.pixel.seed)
+            .field("pixel", &self.pixel.pixel)
+            .field(
+                "index",
+                &(self.pass as u64 * self.spp as u64 + self.slot as u64),
+            )
+            .field("dimension", &self.dimension)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<const JITTER: bool> Strata<JITTER> {
@@ -639,6 +657,29 @@ mod tests {
             check_strata::<true>(spp);
             check_strata::<false>(spp);
         }
+    }
+
+    /// The two instances of the engine name themselves as their kinds.
+    #[test]
+    fn debug_names_the_kind() {
+        use core::fmt::Write;
+        // No allocator here: the text into a fixed buffer.
+        struct Buf([u8; 256], usize);
+        impl Write for Buf {
+            fn write_str(&mut self, s: &str) -> core::fmt::Result {
+                let end = (self.1 + s.len()).min(self.0.len());
+                self.0[self.1..end].copy_from_slice(&s.as_bytes()[..end - self.1]);
+                self.1 = end;
+                Ok(())
+            }
+        }
+        let (mut grid, mut jittered) = (Buf([0; 256], 0), Buf([0; 256], 0));
+        write!(grid, "{:?}", UniformGrid::new(4, 1).unwrap()).unwrap();
+        write!(jittered, "{:?}", Stratified::new(4, 1).unwrap()).unwrap();
+        let grid = core::str::from_utf8(&grid.0[..grid.1]).unwrap();
+        let jittered = core::str::from_utf8(&jittered.0[..jittered.1]).unwrap();
+        assert!(grid.starts_with("UniformGrid {") && grid.contains("spp: 4"));
+        assert!(jittered.starts_with("Stratified {"));
     }
 
     #[test]

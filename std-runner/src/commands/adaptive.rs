@@ -13,11 +13,16 @@ use crate::image_io::say;
 use crate::job::SamplerKind;
 use crate::study::{self, View};
 
+/// The scene the study measures unless `--scene` names another.
+const DEFAULT_SCENE: &str = "caustics";
+/// Seeds per row unless `--seeds` says otherwise.
+const DEFAULT_SEEDS: u32 = 5;
+
 /// Runs `strata adaptive`: every flag checked, then the study, its table
 /// and, if asked for, its CSV.
 pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
     let common = &args.study;
-    let scene = resolve_scene(common.scene_or("caustics"))?;
+    let scene = resolve_scene(common.scene_or(DEFAULT_SCENE))?;
     let width = common.width.unwrap_or(scene.defaults.width);
     let height = height_for(&scene, width, None)?;
     check_pixels(width, height, 1)?;
@@ -58,12 +63,12 @@ pub fn adaptive(args: &AdaptiveArgs) -> Result<()> {
         args.sampler.name(),
         adaptive
     ));
-    let cache_dir = common.cache_dir();
+    let cache_dir = super::cache_dir(common);
     let report = study::adaptive::study(
         &view,
         args.sampler,
         adaptive,
-        common.seeds_or(5),
+        common.seeds_or(DEFAULT_SEEDS),
         &cache_dir,
         &say,
     )?;

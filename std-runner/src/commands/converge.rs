@@ -22,13 +22,18 @@ use crate::scenes::SceneData;
 use crate::spectrum::{ErrorSpectrum, LOW_BAND};
 use crate::study::{self, Point, View};
 
+/// The scene the study measures unless `--scene` names another.
+const DEFAULT_SCENE: &str = "week09";
+/// Seeds per point unless `--seeds` says otherwise.
+const DEFAULT_SEEDS: u32 = 1;
+
 /// The plot's size in pixels.
 const PLOT_SIZE: (u32, u32) = (800, 560);
 
 /// Runs `strata converge`: the plan (every check), the reference, the
 /// measured points, the files, the table.
 pub fn converge(args: &ConvergeArgs) -> Result<()> {
-    let scene = resolve_scene(args.study.scene_or("week09"))?;
+    let scene = resolve_scene(args.study.scene_or(DEFAULT_SCENE))?;
     let plan = args.plan(&scene)?;
     let view = &plan.view;
     let started = Instant::now();
@@ -55,14 +60,14 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         view,
         plan.samplers.len(),
         &plan.spps,
-        args.study.seeds_or(1),
+        args.study.seeds_or(DEFAULT_SEEDS),
     );
     let phase = Phase::start(
         &format!(
             "measuring: {} samplers at {} spp counts, {} seed(s)",
             plan.samplers.len(),
             plan.spps.len(),
-            args.study.seeds_or(1)
+            args.study.seeds_or(DEFAULT_SEEDS)
         ),
         total,
     );
@@ -70,7 +75,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
         view,
         &plan.samplers,
         &plan.spps,
-        args.study.seeds_or(1),
+        args.study.seeds_or(DEFAULT_SEEDS),
         &reference,
         plan.error_spectrum.is_some(),
         &|n| phase.inc(n),
@@ -91,7 +96,7 @@ pub fn converge(args: &ConvergeArgs) -> Result<()> {
     write_all(&files)?;
     say(&study::table(&points, &plan.samplers, &plan.spps));
     if let Some(spectra) = &spectra {
-        say(&plan.error_spectrum_table(spectra, args.study.seeds_or(1)));
+        say(&plan.error_spectrum_table(spectra, args.study.seeds_or(DEFAULT_SEEDS)));
     }
     let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
     say(&format!("wrote {}", names.join(", ")));
@@ -233,7 +238,7 @@ impl ConvergeArgs {
             samplers: samplers_or_all(&self.samplers),
             csv,
             plot,
-            cache_dir: self.study.cache_dir(),
+            cache_dir: super::cache_dir(&self.study),
             error_spectrum,
         })
     }

@@ -15,12 +15,19 @@ use crate::study::{self, View};
 /// that their own error stays a small part of the RMSE measured.
 const REFERENCE_FACTOR: u32 = 16;
 
+/// The scene the study measures unless `--scene` names another.
+const DEFAULT_SCENE: &str = "week09";
+/// Seeds per row unless `--seeds` says otherwise.
+const DEFAULT_SEEDS: u32 = 4;
+/// The image width unless `--width` says otherwise (whatever the scene).
+const DEFAULT_WIDTH: u32 = 320;
+
 /// Runs `strata filters`: every flag checked, then the study, its table
 /// and, if asked for, its CSV.
 pub fn filters(args: &FiltersArgs) -> Result<()> {
     let common = &args.study;
-    let scene = resolve_scene(common.scene_or("week09"))?;
-    let width = common.width.unwrap_or(scene.defaults.width);
+    let scene = resolve_scene(common.scene_or(DEFAULT_SCENE))?;
+    let width = common.width.unwrap_or(DEFAULT_WIDTH);
     let height = height_for(&scene, width, None)?;
     check_pixels(width, height, 1)?;
     // Each spp and filter once, the spps ascending (the box's rate is
@@ -71,17 +78,17 @@ pub fn filters(args: &FiltersArgs) -> Result<()> {
         view.max_depth,
         args.sampler.name(),
         spps,
-        common.seeds_or(4),
+        common.seeds_or(DEFAULT_SEEDS),
         args.rounds
     ));
-    let cache_dir = common.cache_dir();
+    let cache_dir = super::cache_dir(common);
     let report = study::filters::study(
         &view,
         args.sampler,
         &filters,
         &study::filters::Settings {
             spps,
-            seeds: common.seeds_or(4),
+            seeds: common.seeds_or(DEFAULT_SEEDS),
             rounds: args.rounds,
             reference_spp: args.reference_spp,
         },

@@ -54,6 +54,15 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// Where a study caches its references: `--cache-dir`, or the user's
+/// cache directory.
+pub(crate) fn cache_dir(study: &crate::cli::StudyArgs) -> std::path::PathBuf {
+    study
+        .cache_dir
+        .clone()
+        .unwrap_or_else(crate::study::default_cache_dir)
+}
+
 /// Loads `--scene`: a built-in name, or a path to a TOML file.
 pub fn resolve_scene(arg: &str) -> Result<SceneData> {
     if let Some(s) = built_in(arg) {

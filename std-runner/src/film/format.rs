@@ -10,7 +10,9 @@ use anyhow::{Context, Result, bail};
 use strata::render::PixelSum;
 
 use super::Film;
-use super::key::{KEY_FIELDS, RenderKey, parse_samples, parse_window, samples_text, window_text};
+use super::key::{
+    KEY_FIELDS, RenderKey, clip, parse_samples, parse_window, samples_text, window_text,
+};
 use crate::limits::{MAX_PIXELS, MAX_SPP, MAX_WIDTH};
 
 /// The first line of every film file.
@@ -250,14 +252,6 @@ fn header_end(bytes: &[u8]) -> Result<usize> {
             )
         }
         _ => bail!("truncated: the header does not end"),
-    }
-}
-
-/// A header value as errors quote it: at most 80 characters.
-pub(super) fn clip(v: &str) -> String {
-    match v.char_indices().nth(80) {
-        Some((at, _)) => format!("{}… ({} bytes)", &v[..at], v.len()),
-        None => v.to_string(),
     }
 }
 

@@ -141,7 +141,7 @@ impl RenderKey {
         for name in KEY_FIELDS {
             let v = get(name)?;
             if canonical(name, v) != Some(true) {
-                bail!("bad `{name}`: `{}`", super::format::clip(v));
+                bail!("bad `{name}`: `{}`", clip(v));
             }
             fields.push((name, v.to_string()));
         }
@@ -156,7 +156,7 @@ impl RenderKey {
             bail!(
                 "made by strata {}, and this is strata {ours}: parts merge only with the build \
                  that made them (their pixels may differ)",
-                super::format::clip(text("version").unwrap_or_default())
+                clip(text("version").unwrap_or_default())
             );
         }
         let (width, height) = text("size").and_then(parse_size).context("bad `size`")?;
@@ -422,4 +422,12 @@ pub fn parse_samples(s: &str) -> Option<Range<u32>> {
 pub fn parse_range(s: &str) -> Option<Range<u32>> {
     let (a, b) = s.split_once("..")?;
     Some(a.trim().parse().ok()?..b.trim().parse().ok()?)
+}
+
+/// A header value as errors quote it: at most 80 characters.
+pub(super) fn clip(v: &str) -> String {
+    match v.char_indices().nth(80) {
+        Some((at, _)) => format!("{}… ({} bytes)", &v[..at], v.len()),
+        None => v.to_string(),
+    }
 }

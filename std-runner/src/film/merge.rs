@@ -9,7 +9,8 @@ use anyhow::{Context, Result, bail};
 use strata::render::{PixelSum, Tile};
 
 use super::Film;
-use super::format::{CountCheck, FilmFile, FilmHead, check_border, check_counts, clip};
+use super::format::{CountCheck, FilmFile, FilmHead, check_border, check_counts};
+use super::key::clip;
 
 /// Merges parts whose cells (`window × samples`) are disjoint and join
 /// into one window × one sample range: the whole image and every sample
