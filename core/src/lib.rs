@@ -133,5 +133,9 @@ pub mod sampler;
 pub mod trace;
 mod trig;
 
+/// The glam this crate's signatures use (0.34, `libm` maths, no
+/// `fast-math`): a renderer on another glam version names these types
+/// through `strata::glam` instead of adding a second glam.
+pub use glam;
 pub use onb::Onb;
 pub use sampler::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};

@@ -1,5 +1,6 @@
-//! Warps from the unit square to spheres, hemispheres, disks and cones,
-//! each as a triad: `sample_X`, `pdf_X`, `invert_X`, in that order.
+//! Warps from the unit square to spheres, hemispheres, disks and cones
+//! (and from the unit cube to the ball), each as a triad: `sample_X`,
+//! `pdf_X`, `invert_X`, in that order.
 //!
 //! # Conventions
 //!
@@ -8,7 +9,8 @@
 //! - Directions are unit vectors in a local frame whose `+z` is the pole or
 //!   normal; use [`crate::onb::Onb`] to take them to the world.
 //! - A pdf takes the sampled value, so `pdf_x(sample_x(u))` always
-//!   type-checks. Direction pdfs are per steradian, disk pdfs per unit area.
+//!   type-checks. Direction pdfs are per steradian, disk pdfs per unit
+//!   area, the ball's per unit volume.
 //!   A pdf is `0` outside the support, and `0` for a NaN argument (the χ²
 //!   tests rely on this to catch samples landing where the pdf says none
 //!   can).
@@ -109,6 +111,58 @@ pub fn pdf_uniform_sphere(w: Vec3) -> f32 {
 pub fn invert_uniform_sphere(w: Vec3) -> Vec2 {
     let u0 = ((1.0 - w.z) * 0.5).clamp(0.0, ONE_MINUS_EPSILON);
     Vec2::new(u0, azimuth_fraction(w.x, w.y))
+}
+
+// ------------------------------------------------------------------ ball
+
+/// A point uniform in the unit ball (as *Ray Tracing in One Weekend*'s
+/// fuzzy metal draws): the direction [`sample_uniform_sphere`] makes of
+/// `(u₀, u₁)`, at radius `∛u₂` (so the volume inside radius `r`, `r³`, is
+/// uniform). One 3D sample, no rejection loop.
+///
+/// See also [`pdf_uniform_ball`], [`invert_uniform_ball`], and the
+/// course's rejection method [`rejection::rejection_unit_ball`].
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::mapping::*;
+/// let u = Vec3::new(0.3, 0.8, 0.125);
+/// let p = sample_uniform_ball(u);
+/// assert!((p.length() - 0.5).abs() < 1e-6); // ∛0.125
+/// assert!((invert_uniform_ball(p) - u).abs().max_element() < 1e-5);
+/// assert_eq!(pdf_uniform_ball(p), 0.75 / core::f32::consts::PI);
+/// ```
+#[doc(alias = "square_to_uniform_ball")]
+#[inline]
+#[must_use]
+pub fn sample_uniform_ball(u: Vec3) -> Vec3 {
+    sample_uniform_sphere(Vec2::new(u.x, u.y)) * libm::cbrtf(u.z)
+}
+
+/// The density of [`sample_uniform_ball`]: `3 / (4π)` per unit volume
+/// inside the ball (`|p| ≤ 1`), `0` outside it and for a NaN point.
+#[doc(alias = "square_to_uniform_ball_pdf")]
+#[inline]
+#[must_use]
+pub fn pdf_uniform_ball(p: Vec3) -> f32 {
+    if p.length_squared() <= 1.0 {
+        3.0 * INV_4PI
+    } else {
+        0.0
+    }
+}
+
+/// The inverse of [`sample_uniform_ball`]: the direction's `(u₀, u₁)` and
+/// `u₂ = |p|³`, in `[0, 1)³`. The centre, which has no direction, maps to
+/// the pole's `(0, 0)` (any `(u₀, u₁)` samples it at `u₂ = 0`).
+#[doc(alias = "uniform_ball_to_square")]
+#[inline]
+#[must_use]
+pub fn invert_uniform_ball(p: Vec3) -> Vec3 {
+    let r = crate::float::length(p);
+    let w = if r > 0.0 { p / r } else { Vec3::Z };
+    let r3 = (r * r * r).clamp(0.0, ONE_MINUS_EPSILON);
+    invert_uniform_sphere(w).extend(r3)
 }
 
 // ------------------------------------------------------------ hemisphere

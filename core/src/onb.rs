@@ -67,6 +67,7 @@ impl Onb {
     /// use strata::onb::Onb;
     /// let n = Vec3::new(0.0, 0.6, 0.8);
     /// let b = Onb::from_normal(n);
+    /// assert_eq!(Onb::from_normal([0.0, 0.6, 0.8]), b); // arrays too
     /// assert!(b.u.dot(b.v).abs() < 1e-6);
     /// assert!((b.u.cross(b.v) - n).length() < 1e-6); // right-handed
     /// let d = Vec3::new(0.2, -0.3, 0.9);
@@ -74,7 +75,8 @@ impl Onb {
     /// ```
     #[inline]
     #[must_use]
-    pub fn from_normal(n: Vec3) -> Self {
+    pub fn from_normal(n: impl Into<Vec3>) -> Self {
+        let n: Vec3 = n.into();
         let sign = 1.0f32.copysign(n.z);
         let a = -1.0 / (sign + n.z);
         let b = n.x * n.y * a;

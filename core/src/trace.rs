@@ -132,21 +132,47 @@ pub struct Ray {
 impl Ray {
     /// A ray over `(0, ∞)`.
     ///
+    /// `origin` and `dir` are a [`Vec3`] or anything that becomes one,
+    /// such as `[f32; 3]` (a renderer on another glam, or none, passes
+    /// arrays).
+    ///
     /// ```
     /// use glam::Vec3;
     /// use strata::trace::Ray;
     /// let r = Ray::new(Vec3::ZERO, Vec3::X);
     /// assert_eq!(r.at(2.0), Vec3::new(2.0, 0.0, 0.0));
+    /// assert_eq!(Ray::new([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]), r);
     /// ```
     #[inline]
     #[must_use]
-    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+    pub fn new(origin: impl Into<Vec3>, dir: impl Into<Vec3>) -> Self {
         Self {
-            origin,
-            dir,
+            origin: origin.into(),
+            dir: dir.into(),
             t_min: 0.0,
             t_max: f32::INFINITY,
         }
+    }
+
+    /// [`Ray::new`], checked: `None` unless `dir` is unit length as every
+    /// query requires (`|d·d − 1| ≤ 16 ε`, which `Vec3::normalize` meets)
+    /// and `origin` and `dir` are finite. A renderer that keeps
+    /// unnormalised directions (as *Ray Tracing in One Weekend*'s camera
+    /// does) finds out here rather than in wrong hits.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::trace::Ray;
+    /// assert!(Ray::try_new(Vec3::ZERO, Vec3::new(1.0, 2.0, 2.0).normalize()).is_some());
+    /// assert!(Ray::try_new(Vec3::ZERO, [1.0, 2.0, 2.0]).is_none()); // length 3
+    /// assert!(Ray::try_new(Vec3::NAN, Vec3::X).is_none());
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn try_new(origin: impl Into<Vec3>, dir: impl Into<Vec3>) -> Option<Self> {
+        let r = Self::new(origin, dir);
+        let unit = (r.dir.dot(r.dir) - 1.0).abs() <= 16.0 * f32::EPSILON;
+        (unit && r.origin.is_finite() && r.dir.is_finite()).then_some(r)
     }
 
     /// The same ray over `(t_min, t_max)`.
@@ -196,6 +222,24 @@ impl Sphere {
     #[must_use]
     pub const fn new(center: Vec3, radius: f32) -> Self {
         Self { center, radius }
+    }
+
+    /// A sphere of `radius` around `center` given as `[x, y, z]`: for a
+    /// renderer whose vectors are not this crate's glam (`Sphere::new`
+    /// stays a `const fn`).
+    ///
+    /// ```
+    /// use strata::trace::Sphere;
+    /// let s = Sphere::from_array([1.0, 2.0, 3.0], 0.5);
+    /// assert_eq!(s, Sphere::new(glam::Vec3::new(1.0, 2.0, 3.0), 0.5));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub const fn from_array(center: [f32; 3], radius: f32) -> Self {
+        Self {
+            center: Vec3::from_array(center),
+            radius,
+        }
     }
 
     /// Whether rays from origins within `reach` of the coordinate origin

@@ -242,7 +242,18 @@ fn mapping_lock() {
         ]
         .concat()
     });
-    let lock: [(&str, u64); 7] = [
+    push("uniform_ball", &|u| {
+        // The third coordinate runs along the grid's diagonal.
+        let u3 = Vec3::new(u.x, u.y, (u.x + u.y) * 0.5);
+        let p = sample_uniform_ball(u3);
+        [
+            &v3(p)[..],
+            &v3(invert_uniform_ball(p))[..],
+            &[pdf_uniform_ball(p).to_bits()],
+        ]
+        .concat()
+    });
+    let lock: [(&str, u64); 8] = [
         ("uniform_sphere", 0xd074475691ec7496),
         ("uniform_hemisphere", 0x100d822a729b54f8),
         ("cosine_hemisphere", 0x4d24764520a9d6fe),
@@ -250,6 +261,7 @@ fn mapping_lock() {
         ("polar_disk", 0xae81f3436e32bd83),
         ("uniform_cone", 0x7da39f65cf5ea3e7),
         ("onb", 0x13d8b714175f56f0),
+        ("uniform_ball", 0x09e7cb26c6da1dfc),
     ];
     let mut failures = vec![];
     for ((name, w), (lock_name, want)) in words.into_iter().zip(lock) {

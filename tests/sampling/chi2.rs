@@ -26,6 +26,30 @@ fn uniform(rng: &mut Pcg32) -> Vec2 {
     Vec2::new(next_f32(rng), next_f32(rng))
 }
 
+fn uniform3(rng: &mut Pcg32) -> Vec3 {
+    Vec3::new(next_f32(rng), next_f32(rng), next_f32(rng))
+}
+
+/// A ball point as `(|p|³, (z/|p| + 1)/2)` and as `(|p|³, φ / 2π)`: for a
+/// uniform ball, each pair is uniform on the unit square.
+fn ball_params(p: Vec3) -> ([f64; 3], [f64; 3]) {
+    let q = v3(p);
+    let r = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+    let z = if r > 0.0 { q[2] / r } else { 0.0 };
+    let phi = q[1].atan2(q[0]).rem_euclid(std::f64::consts::TAU);
+    (
+        [r * r * r, (z + 1.0) / 2.0, 0.0],
+        [r * r * r, phi / std::f64::consts::TAU, 0.0],
+    )
+}
+
+/// The density of `ball_params`' squares that `pdf_uniform_ball` claims:
+/// its value at a point of that radius, times the ball's volume.
+fn ball_density(p: [f64; 3]) -> f64 {
+    let r = p[0].max(0.0).cbrt() as f32;
+    mapping::pdf_uniform_ball(Vec3::new(0.0, 0.0, r)) as f64 * 4.0 / 3.0 * std::f64::consts::PI
+}
+
 const SPHERE_RES: (usize, usize) = (51, 101);
 const DISK_RES: (usize, usize) = (51, 101);
 const CONE_COS: f32 = 0.6;
@@ -170,6 +194,15 @@ chi2_tests! {
     rejection_unit_sphere_chi2: Domain::SPHERE, SPHERE_RES,
         |rng| v3(rejection::rejection_unit_sphere(&mut rng)),
         |p| mapping::pdf_uniform_sphere(w3(p)) as f64;
+    // Uniform in the ball: (|p|³, the direction's z) and (|p|³, its
+    // azimuth) are uniform on the square, the density being the ball's
+    // 3 / (4π) times its volume 4π / 3 wherever |p| ≤ 1.
+    uniform_ball_radius_z_chi2: Domain::UNIT_SQUARE, (51, 51),
+        |rng| ball_params(mapping::sample_uniform_ball(uniform3(&mut rng))).0,
+        |p| ball_density(p);
+    uniform_ball_radius_phi_chi2: Domain::UNIT_SQUARE, (51, 51),
+        |rng| ball_params(mapping::sample_uniform_ball(uniform3(&mut rng))).1,
+        |p| ball_density(p);
     // Uniform in the ball: |p|³ is uniform on [0, 1).
     rejection_unit_ball_radius_chi2: Domain::Line { x0: 0.0, x1: 1.0 }, (200, 1),
         |rng| [(rejection::rejection_unit_ball(&mut rng).length() as f64).powi(3), 0.0, 0.0],
@@ -219,6 +252,29 @@ fn linear_radius_disk_is_rejected() {
     );
     eprintln!("{outcome:?}");
     assert!(!outcome.passed(), "a wrong disk passed: {outcome:?}");
+}
+
+/// The ball's classic mistake, radius `u` instead of `∛u`, must be
+/// rejected.
+#[test]
+fn linear_radius_ball_is_rejected() {
+    let mut rng = Pcg32::new(4, STREAM);
+    let test = Chi2::new(
+        "negative_linear_radius_ball",
+        Domain::UNIT_SQUARE,
+        (51, 51),
+        TEST_COUNT,
+    );
+    let outcome = test.run(
+        || {
+            let u = uniform3(&mut rng);
+            let p = mapping::sample_uniform_sphere(Vec2::new(u.x, u.y)) * u.z;
+            ball_params(p).0
+        },
+        ball_density,
+    );
+    eprintln!("{outcome:?}");
+    assert!(!outcome.passed(), "a wrong ball passed: {outcome:?}");
 }
 
 /// A mapping that puts samples where its pdf is zero fails outright.

@@ -139,3 +139,26 @@ fn cosine_hemisphere_keeps_z_at_the_rim() {
     assert!(worst_z < 2e-5, "{worst_z:e}");
     assert!(worst_w < 2e-6, "{worst_w:e}");
 }
+
+/// The ball's inverse undoes it on 10⁶ seeded random `u` in `[0, 1)³`:
+/// `u₂ = |p|³` to 10⁻⁶, and the direction's `(u₀, u₁)` to 10⁻⁵ where it
+/// is defined (`u₂ ≥ 10⁻³`, off the poles by 10⁻³; the azimuth modulo 1).
+#[test]
+fn the_ball_inverse_undoes_it() {
+    use glam::Vec3;
+    let mut rng = Pcg32::new(22, STREAM);
+    let (mut worst_r, mut worst_dir) = (0.0f32, 0.0f32);
+    for _ in 0..N {
+        let u = Vec3::new(next_f32(&mut rng), next_f32(&mut rng), next_f32(&mut rng));
+        let back = invert_uniform_ball(sample_uniform_ball(u));
+        worst_r = worst_r.max((back.z - u.z).abs());
+        if u.z < 1e-3 || u.x < 1e-3 || u.x > 1.0 - 1e-3 {
+            continue;
+        }
+        let dy = (back.y - u.y).abs();
+        worst_dir = worst_dir.max((back.x - u.x).abs().max(dy.min(1.0 - dy)));
+    }
+    assert!(worst_r < 1e-6 && worst_dir < 1e-5, "{worst_r} {worst_dir}");
+    // The centre has no direction: it inverts to the pole.
+    assert_eq!(invert_uniform_ball(Vec3::ZERO), Vec3::ZERO);
+}
