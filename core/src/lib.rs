@@ -103,7 +103,10 @@
 //! ## Limitations
 //!
 //! - `f32` only.
-//! - The course's quads and triangles are out of scope: spheres only.
+//! - The built-in renderer ([`render`]) draws spheres only (the course's
+//!   quads and triangles are out of scope); the BVH also serves the
+//!   caller's own primitives ([`trace::PrimitiveBvh`]), with the caller's
+//!   intersection routine.
 //! - Rejection samplers ([`mapping::rejection`]) consume a random count of
 //!   values, so they take their own generator and never a pixel's sampler.
 //! - The strata samplers accept at most 2²⁴ samples per pixel; a prime spp
@@ -114,12 +117,26 @@
 //! ## Thread safety
 //!
 //! Every type is a plain value: samplers, `Onb`, `Ray`, `Sphere`,
-//! `RayPacket8`, `HitPacket8` and `SphereSet` (a shared borrow) are `Send`
-//! and `Sync`. Give each thread its own sampler; share sphere sets freely.
+//! `RayPacket8`, `HitPacket8`, `SphereSet` and `Bvh` (shared borrows) are
+//! `Send` and `Sync`; a `PrimitiveBvh` is when the caller's primitives
+//! are `Sync`. Give each thread its own sampler and `BvhStack`; share
+//! sphere sets and trees freely.
+//!
+//! ## Features
+//!
+//! - `alloc` (off by default): owning buffers beside the borrowed views,
+//!   `trace::OwnedBvh` and `trace::OwnedPrimitiveBvh`, so a scene
+//!   struct can hold its tree. Without it the crate does not link `alloc`.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs, missing_debug_implementations)]
 #![warn(clippy::missing_inline_in_public_items)]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
+// Unit tests may allocate (the library never does without `alloc`).
+#[cfg(test)]
+extern crate std;
 
 pub mod filter;
 mod float;

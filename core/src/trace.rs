@@ -8,6 +8,7 @@
 //! | one sphere | [`intersect_sphere`] | | | |
 //! | closest hit | [`closest_hit`] | [`closest_hit_1x8`] | [`closest_hit_x8`] | [`Bvh::closest_hit`], [`Bvh::closest_hit_x8`] |
 //! | any hit (shadow rays) | [`any_hit`] | [`any_hit_1x8`] | [`any_hit_x8`] | [`Bvh::any_hit`], [`Bvh::any_hit_x8`] |
+//! | the caller's primitives | [`closest_primitive_hit`], [`any_primitive_hit`] | | | [`PrimitiveBvh::closest_hit`], [`PrimitiveBvh::any_hit`] |
 //!
 //! Suffixes: `_1x8` is one ray against the spheres of a [`SphereSet`] eight
 //! at a time (for incoherent rays); `_x8` is a [`RayPacket8`] of eight rays
@@ -39,11 +40,21 @@
 //! - 8-wide storage: [`SphereChunk8`] and [`SphereSet`] (sized by
 //!   [`chunks_for`], refused with [`SphereSetError`]), [`RayPacket8`],
 //!   [`HitPacket8`].
-//! - The BVH, which returns the brute-force bits faster from about 16
-//!   spheres: [`Bvh`] and its queries, [`BvhStack`] (reusable traversal
-//!   memory), [`BvhNode8`] and [`BvhStorage`] (caller storage, sized by
-//!   [`bvh_storage_for`]), [`BvhError`], and its limits
+//! - The BVH, which returns the brute-force bits faster from
+//!   [`BVH_MIN_SPHERES`] spheres: [`Bvh`] and its queries, [`BvhStack`]
+//!   (reusable traversal memory), [`BvhNode8`] and [`BvhStorage`] (caller
+//!   storage, sized by [`bvh_storage_for`]; [`Bvh::from_parts`] views it
+//!   again after checking it), [`BvhError`], and its limits
 //!   [`BVH_MAX_SPHERES`], [`BVH_MAX_COORDINATE`] and [`BVH_MAX_DEPTH`].
+//! - The same BVH over the caller's own primitives (triangles, boxes,
+//!   anything with a box and an intersection routine): [`Primitives`],
+//!   [`PrimitiveBvh`] (storage sized by [`primitive_bvh_storage_for`]),
+//!   [`PrimitiveHit`], [`Aabb`], and the brute-force references
+//!   [`closest_primitive_hit`] and [`any_primitive_hit`] it reproduces.
+//!   Spheres keep their own kernels; for a caller's primitive Strata
+//!   promises the traversal and the hit the caller's routine reports.
+//! - With the `alloc` feature, `OwnedBvh` and `OwnedPrimitiveBvh`: a tree
+//!   and its storage in one value.
 //! - The build's SIMD level: [`simd_level`], [`SimdLevel`].
 //!
 //! # The same bits on every path
@@ -106,9 +117,12 @@ mod packet;
 
 use crate::lanes::{Lanes, RayLanes, SphereLanes, V3};
 pub use bvh::{
-    BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, Bvh, BvhError, BvhNode8, BvhStack,
-    BvhStorage, bvh_storage_for,
+    Aabb, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_MIN_SPHERES, BVH_SLACK_ULPS, Bvh,
+    BvhError, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, PrimitiveHit, Primitives,
+    any_primitive_hit, bvh_storage_for, closest_primitive_hit, primitive_bvh_storage_for,
 };
+#[cfg(feature = "alloc")]
+pub use bvh::{OwnedBvh, OwnedPrimitiveBvh};
 pub use packet::{
     HitPacket8, RayPacket8, SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, any_hit_x8,
     chunks_for, closest_hit_1x8, closest_hit_x8,

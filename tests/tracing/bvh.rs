@@ -19,11 +19,11 @@ fn uniform(rng: &mut Pcg32) -> f32 {
     (rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
-fn range(rng: &mut Pcg32, lo: f32, hi: f32) -> f32 {
+pub(super) fn range(rng: &mut Pcg32, lo: f32, hi: f32) -> f32 {
     lo + (hi - lo) * uniform(rng)
 }
 
-fn unit(rng: &mut Pcg32) -> Vec3 {
+pub(super) fn unit(rng: &mut Pcg32) -> Vec3 {
     loop {
         let v = Vec3::new(
             range(rng, -1.0, 1.0),

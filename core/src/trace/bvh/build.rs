@@ -10,7 +10,7 @@
 
 use super::{
     BVH_LEAF_MAX, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_SAH_DEPTH, Bvh, BvhError,
-    BvhNode8, LEAF_BIT, PACKET_FALLBACK, SLACK, bvh_storage_for, hittable,
+    BvhNode8, LEAF_BIT, PACKET_FALLBACK, SLACK, Shape, bvh_storage_for, hittable,
 };
 use crate::lanes::f32x8;
 use crate::trace::Sphere;
@@ -18,18 +18,18 @@ use core::cmp::Ordering;
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug)]
-struct Aabb {
-    min: [f32; 3],
-    max: [f32; 3],
+pub(super) struct Box3 {
+    pub(super) min: [f32; 3],
+    pub(super) max: [f32; 3],
 }
 
-impl Aabb {
-    const EMPTY: Aabb = Aabb {
+impl Box3 {
+    pub(super) const EMPTY: Box3 = Box3 {
         min: [f32::INFINITY; 3],
         max: [f32::NEG_INFINITY; 3],
     };
 
-    fn grow(&mut self, o: &Aabb) {
+    pub(super) fn grow(&mut self, o: &Box3) {
         for k in 0..3 {
             if o.min[k] < self.min[k] {
                 self.min[k] = o.min[k];
@@ -41,7 +41,7 @@ impl Aabb {
     }
 
     fn grow_point(&mut self, p: [f32; 3]) {
-        self.grow(&Aabb { min: p, max: p });
+        self.grow(&Box3 { min: p, max: p });
     }
 
     /// Half the surface area (what SAH compares); 0 for an empty box.
@@ -60,10 +60,10 @@ impl Aabb {
 
 /// The conservative box of a sphere (see "Why the results are exact" on
 /// [`Bvh`]).
-fn sphere_box(s: &Sphere) -> Aabb {
+pub(super) fn sphere_box(s: &Sphere) -> Box3 {
     let c = s.center;
     let pad = s.radius + (c.x.abs() + c.y.abs() + c.z.abs() + s.radius) * SLACK;
-    Aabb {
+    Box3 {
         min: [c.x - pad, c.y - pad, c.z - pad],
         max: [c.x + pad, c.y + pad, c.z + pad],
     }
@@ -73,8 +73,34 @@ fn centroid(s: &Sphere) -> [f32; 3] {
     [s.center.x, s.center.y, s.center.z]
 }
 
-struct Builder<'s, 'b> {
-    spheres: &'s [Sphere],
+/// What the build needs of the items it sorts into leaves: spheres, or
+/// the caller's primitives. Every method is a pure function of the id.
+pub(super) trait Source {
+    /// The conservative box (padded against rounding, see [`Bvh`]).
+    fn bounds(&self, id: u32) -> Box3;
+    /// The point splits sort by.
+    fn centroid(&self, id: u32) -> [f32; 3];
+    /// The size outliers are picked by (largest first).
+    fn size(&self, id: u32) -> f32;
+}
+
+impl Source for [Sphere] {
+    #[inline(always)]
+    fn bounds(&self, id: u32) -> Box3 {
+        sphere_box(&self[id as usize])
+    }
+    #[inline(always)]
+    fn centroid(&self, id: u32) -> [f32; 3] {
+        centroid(&self[id as usize])
+    }
+    #[inline(always)]
+    fn size(&self, id: u32) -> f32 {
+        self[id as usize].radius
+    }
+}
+
+struct Builder<'s, 'b, S: Source + ?Sized> {
+    items: &'s S,
     nodes: &'b mut [BvhNode8],
     ids: &'b mut [u32],
     used: usize,
@@ -83,14 +109,13 @@ struct Builder<'s, 'b> {
 
 const BINS: usize = 16;
 
-impl Builder<'_, '_> {
-    fn bounds(&self, lo: usize, hi: usize) -> (Aabb, Aabb) {
-        let mut b = Aabb::EMPTY;
-        let mut c = Aabb::EMPTY;
+impl<S: Source + ?Sized> Builder<'_, '_, S> {
+    fn bounds(&self, lo: usize, hi: usize) -> (Box3, Box3) {
+        let mut b = Box3::EMPTY;
+        let mut c = Box3::EMPTY;
         for &id in &self.ids[lo..hi] {
-            let s = &self.spheres[id as usize];
-            b.grow(&sphere_box(s));
-            c.grow_point(centroid(s));
+            b.grow(&self.items.bounds(id));
+            c.grow_point(self.items.centroid(id));
         }
         (b, c)
     }
@@ -115,18 +140,19 @@ impl Builder<'_, '_> {
         // same halves whatever order the ids are in.
         let axis = longest(&ext);
         let mid = lo + (hi - lo) / 2;
-        let spheres = self.spheres;
+        let spheres = self.items;
         self.ids[lo..hi].select_nth_unstable_by(mid - lo, |&a, &b| {
-            let ca = centroid(&spheres[a as usize])[axis];
-            let cb = centroid(&spheres[b as usize])[axis];
+            let ca = spheres.centroid(a)[axis];
+            let cb = spheres.centroid(b)[axis];
             ca.total_cmp(&cb).then(a.cmp(&b))
         });
         mid
     }
 
-    fn sah_split(&mut self, lo: usize, hi: usize, cb: &Aabb, ext: &[f32; 3]) -> Option<usize> {
-        let bin_of = |s: &Sphere, axis: usize| -> usize {
-            let x = (centroid(s)[axis] - cb.min[axis]) / ext[axis] * BINS as f32;
+    fn sah_split(&mut self, lo: usize, hi: usize, cb: &Box3, ext: &[f32; 3]) -> Option<usize> {
+        let spheres = self.items;
+        let bin_of = |id: u32, axis: usize| -> usize {
+            let x = (spheres.centroid(id)[axis] - cb.min[axis]) / ext[axis] * BINS as f32;
             // Truncation floors (x ≥ 0); the max centroid clamps to the last bin.
             (x as usize).min(BINS - 1)
         };
@@ -135,24 +161,23 @@ impl Builder<'_, '_> {
             if e <= 0.0 {
                 continue;
             }
-            let mut boxes = [Aabb::EMPTY; BINS];
+            let mut boxes = [Box3::EMPTY; BINS];
             let mut counts = [0u32; BINS];
             for &id in &self.ids[lo..hi] {
-                let s = &self.spheres[id as usize];
-                let b = bin_of(s, axis);
-                boxes[b].grow(&sphere_box(s));
+                let b = bin_of(id, axis);
+                boxes[b].grow(&spheres.bounds(id));
                 counts[b] += 1;
             }
             // Right-to-left sweep of areas × counts.
             let mut right_cost = [0.0f32; BINS];
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             let mut n = 0u32;
             for b in (1..BINS).rev() {
                 acc.grow(&boxes[b]);
                 n += counts[b];
                 right_cost[b] = acc.half_area() * n as f32;
             }
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             let mut n = 0u32;
             for b in 1..BINS {
                 acc.grow(&boxes[b - 1]);
@@ -165,11 +190,10 @@ impl Builder<'_, '_> {
         }
         let (_, axis, split) = best?;
         // Partition in place: bins below `split` first.
-        let spheres = self.spheres;
         let ids = &mut self.ids[lo..hi];
         let mut left = 0;
         for k in 0..ids.len() {
-            if bin_of(&spheres[ids[k] as usize], axis) < split {
+            if bin_of(ids[k], axis) < split {
                 ids.swap(left, k);
                 left += 1;
             }
@@ -183,7 +207,7 @@ impl Builder<'_, '_> {
         // Children as (start, end, box); the priority of splitting is the
         // box surface in SAH levels, the sphere count in median levels
         // (which keeps the depth bound).
-        let priority = |b: &Builder<'_, '_>, lo: usize, hi: usize| -> (Aabb, f32) {
+        let priority = |b: &Self, lo: usize, hi: usize| -> (Box3, f32) {
             let bx = b.bounds(lo, hi).0;
             let p = if depth < BVH_SAH_DEPTH {
                 bx.half_area()
@@ -192,7 +216,7 @@ impl Builder<'_, '_> {
             };
             (bx, p)
         };
-        let mut ranges = [(0usize, 0usize, Aabb::EMPTY, 0.0f32); 8];
+        let mut ranges = [(0usize, 0usize, Box3::EMPTY, 0.0f32); 8];
         let (bx, p) = priority(self, lo, hi);
         ranges[0] = (lo, hi, bx, p);
         let mut count = 1;
@@ -252,27 +276,27 @@ const OUTLIER_RATIO: f32 = 64.0;
 /// a sphere (a ground of radius 1000 under a scene 20 wide) would make
 /// every box above it huge and be entered by nearly every ray; kept out,
 /// it is tested once per ray on its own, and the tree stays tight.
-fn pick_outliers(spheres: &[Sphere], ids: &mut [u32]) -> usize {
+fn pick_outliers<S: Source + ?Sized>(spheres: &S, ids: &mut [u32]) -> usize {
     // A tree of one leaf tests its spheres in one kernel call already.
     if ids.len() <= BVH_LEAF_MAX {
         return 0;
     }
     let mut k = 0;
     while k < BVH_LEAF_MAX.min(ids.len()) {
-        let radius = |id: u32| spheres[id as usize].radius;
+        let radius = |id: u32| spheres.size(id);
         let mut big = k;
         for j in k + 1..ids.len() {
             if radius(ids[j]) > radius(ids[big]) {
                 big = j;
             }
         }
-        let mut rest = Aabb::EMPTY;
+        let mut rest = Box3::EMPTY;
         for (j, &id) in ids.iter().enumerate().skip(k) {
             if j != big {
-                rest.grow(&sphere_box(&spheres[id as usize]));
+                rest.grow(&spheres.bounds(id));
             }
         }
-        let area = sphere_box(&spheres[ids[big] as usize]).half_area();
+        let area = spheres.bounds(ids[big]).half_area();
         // More than 8 spheres and at most 8 outliers: the rest is never
         // empty, and the tree never is.
         if area.partial_cmp(&(OUTLIER_RATIO * rest.half_area())) != Some(Ordering::Greater) {
@@ -283,6 +307,38 @@ fn pick_outliers(spheres: &[Sphere], ids: &mut [u32]) -> usize {
         k += 1;
     }
     k
+}
+
+/// Builds the tree over the items `ids[..m]` (the hittable ones) into
+/// `nodes`, reordering `ids` so the outliers come first and every leaf is
+/// a contiguous run; `len` of the returned shape is left 0 for the caller.
+pub(super) fn build_tree<S: Source + ?Sized>(
+    items: &S,
+    nodes: &mut [BvhNode8],
+    ids: &mut [u32],
+    m: usize,
+) -> Shape {
+    let outliers = pick_outliers(items, &mut ids[..m]);
+    let capacity = nodes.len();
+    let mut b = Builder {
+        items,
+        nodes,
+        ids,
+        used: 1,
+        depth: 1,
+    };
+    if m == outliers {
+        b.nodes[0] = BvhNode8::EMPTY;
+    } else {
+        b.node(0, outliers, m, 1);
+    }
+    debug_assert!(b.used <= capacity && b.depth <= BVH_MAX_DEPTH);
+    Shape {
+        len: 0,
+        outliers,
+        used_nodes: b.used,
+        depth: b.depth,
+    }
 }
 
 fn longest(ext: &[f32; 3]) -> usize {
@@ -361,22 +417,8 @@ impl<'a> Bvh<'a> {
                 m += 1;
             }
         }
-        let outliers = pick_outliers(spheres, &mut ids[..m]);
         let nodes = &mut nodes[..need.nodes];
-        let mut b = Builder {
-            spheres,
-            nodes,
-            ids,
-            used: 1,
-            depth: 1,
-        };
-        if m == outliers {
-            b.nodes[0] = BvhNode8::EMPTY;
-        } else {
-            b.node(0, outliers, m, 1);
-        }
-        let (used, depth) = (b.used, b.depth);
-        debug_assert!(used <= need.nodes && depth <= BVH_MAX_DEPTH);
+        let shape = build_tree(spheres, nodes, ids, m);
         // Lanes in leaf order; padding after the last leaf never hits.
         let (cx, rest) = lanes[..4 * width].split_at_mut(width);
         let (cy, rest) = rest.split_at_mut(width);
@@ -397,10 +439,7 @@ impl<'a> Bvh<'a> {
             cz,
             r,
             ids,
-            outliers,
-            len: n,
-            used_nodes: used,
-            depth,
+            shape: Shape { len: n, ..shape },
             packet_fallback: PACKET_FALLBACK,
         })
     }

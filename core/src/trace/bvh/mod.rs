@@ -5,8 +5,18 @@
 //! `traverse`.
 
 mod build;
+#[cfg(feature = "alloc")]
+mod owned;
+mod parts;
+mod primitive;
 mod traverse;
 
+#[cfg(feature = "alloc")]
+pub use owned::{OwnedBvh, OwnedPrimitiveBvh};
+pub use primitive::{
+    Aabb, PrimitiveBvh, PrimitiveHit, Primitives, any_primitive_hit, closest_primitive_hit,
+    primitive_bvh_storage_for,
+};
 pub use traverse::BvhStack;
 
 use super::Sphere;
@@ -19,6 +29,13 @@ pub(crate) const BVH_LEAF_MAX: usize = 8;
 /// position.
 pub const BVH_MAX_SPHERES: usize = 1 << 27;
 
+/// The sphere count from which tracing through a [`Bvh`] takes fewer
+/// instructions per ray than the brute-force 1×8 loop
+/// ([`closest_hit_1x8`](super::closest_hit_1x8)), measured on small
+/// scenes of the cover's kind (a ground sphere and spheres scattered on
+/// it). Results are the same bits either way; this only picks the faster.
+pub const BVH_MIN_SPHERES: usize = 16;
+
 /// Depth (in node levels) above which splits are binned SAH; below, median
 /// splits.
 pub(crate) const BVH_SAH_DEPTH: u32 = 16;
@@ -29,8 +46,9 @@ pub(crate) const BVH_SAH_DEPTH: u32 = 16;
 pub const BVH_MAX_DEPTH: u32 = BVH_SAH_DEPTH + 10;
 
 /// The slack factor `K` of the conservative boxes, in units of `ε = 2⁻²⁴`
-/// (see "Why the results are exact" on [`Bvh`]).
-pub(crate) const BVH_SLACK_ULPS: f32 = 128.0;
+/// (see "Why the results are exact" on [`Bvh`], and [`Primitives`] for the
+/// caller's primitives).
+pub const BVH_SLACK_ULPS: f32 = 128.0;
 
 /// The largest centre coordinate or radius a [`Bvh`] accepts: `2⁶⁰`,
 /// where squares and sums of squares still fit an `f32`.
@@ -128,13 +146,25 @@ pub enum BvhError {
         /// Length provided.
         provided: usize,
     },
-    /// More than [`BVH_MAX_SPHERES`] spheres.
+    /// More than [`BVH_MAX_SPHERES`] spheres (or primitives).
     TooManySpheres,
     /// A sphere has an infinite centre or radius, or one beyond
     /// [`BVH_MAX_COORDINATE`].
     SphereOutOfRange {
         /// Its index.
         index: usize,
+    },
+    /// A primitive's box has a NaN, an infinite coordinate or one beyond
+    /// [`BVH_MAX_COORDINATE`].
+    BoundsOutOfRange {
+        /// Its index.
+        index: usize,
+    },
+    /// Storage given to a `from_parts` view is not a tree the build could
+    /// have written over these items.
+    InvalidStorage {
+        /// What is wrong.
+        reason: &'static str,
     },
 }
 
@@ -151,12 +181,21 @@ impl core::fmt::Display for BvhError {
                 "BVH storage too small: `{slice}` needs {needed} entries, {provided} given"
             ),
             BvhError::TooManySpheres => {
-                write!(f, "a BVH holds at most {BVH_MAX_SPHERES} spheres")
+                write!(
+                    f,
+                    "a BVH holds at most {BVH_MAX_SPHERES} spheres or primitives"
+                )
             }
             BvhError::SphereOutOfRange { index } => write!(
                 f,
                 "sphere {index} is infinite or beyond ±{BVH_MAX_COORDINATE:e} (BVH limit)"
             ),
+            BvhError::BoundsOutOfRange { index } => write!(
+                f,
+                "primitive {index}'s box has a NaN, or is infinite or beyond \
+                 ±{BVH_MAX_COORDINATE:e} (BVH limit)"
+            ),
+            BvhError::InvalidStorage { reason } => write!(f, "invalid BVH storage: {reason}"),
         }
     }
 }
@@ -238,14 +277,25 @@ pub struct Bvh<'a> {
     cz: &'a [f32],
     r: &'a [f32],
     ids: &'a [u32],
-    /// Lanes `0..outliers` hold the spheres kept out of the tree (tested
-    /// on their own by every query); the tree's leaves follow.
-    outliers: usize,
-    len: usize,
-    used_nodes: usize,
-    depth: u32,
+    shape: Shape,
     /// See [`Bvh::with_packet_fallback`].
     packet_fallback: u32,
+}
+
+/// What a tree is beyond its storage: the few numbers a view of built
+/// storage needs back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Shape {
+    /// Items it was built over (hittable or not).
+    len: usize,
+    /// Positions `0..outliers` of `ids` (and of sphere lanes) hold the
+    /// items kept out of the tree (tested on their own by every query);
+    /// the tree's leaves follow.
+    outliers: usize,
+    /// Nodes in use.
+    used_nodes: usize,
+    /// Node levels.
+    depth: u32,
 }
 
 /// Whether the kernel can ever hit `s`.
@@ -260,7 +310,7 @@ impl Bvh<'_> {
     #[inline]
     #[must_use]
     pub fn built_from(&self, spheres: &[Sphere]) -> bool {
-        if spheres.len() != self.len {
+        if spheres.len() != self.shape.len {
             return false;
         }
         let hittable = spheres.iter().filter(|s| hittable(s)).count();
@@ -284,21 +334,21 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn len(&self) -> usize {
-        self.len
+        self.shape.len
     }
 
     /// Whether it was built over no spheres.
     #[must_use]
     #[inline]
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.shape.len == 0
     }
 
     /// Nodes in use (at most [`bvh_storage_for`]`(len).nodes`).
     #[must_use]
     #[inline]
     pub fn node_count(&self) -> usize {
-        self.used_nodes
+        self.shape.used_nodes
     }
 
     /// How many spheres were kept out of the tree and are tested on their
@@ -326,14 +376,14 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn outliers(&self) -> usize {
-        self.outliers
+        self.shape.outliers
     }
 
     /// Node levels (at most [`BVH_MAX_DEPTH`]).
     #[must_use]
     #[inline]
     pub fn depth(&self) -> u32 {
-        self.depth
+        self.shape.depth
     }
 }
 

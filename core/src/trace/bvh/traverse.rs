@@ -21,7 +21,7 @@ use crate::trace::{
 /// rounded up to a power of two, so an index masked by [`STACK_MASK`]
 /// needs no bounds check (the mask never changes an index below the
 /// bound, which the assertion below keeps).
-const STACK: usize = (7 * BVH_MAX_DEPTH as usize + 1).next_power_of_two();
+pub(super) const STACK: usize = (7 * BVH_MAX_DEPTH as usize + 1).next_power_of_two();
 const _: () = assert!(7 * (BVH_MAX_DEPTH as usize - 1) + 8 <= STACK);
 
 /// `STACK − 1`.
@@ -49,9 +49,9 @@ const STACK_MASK: usize = STACK - 1;
 #[derive(Clone, Debug)]
 pub struct BvhStack {
     /// Closest-hit traversal of one ray: (child, entry distance).
-    closest: [(u32, f32); STACK],
+    pub(super) closest: [(u32, f32); STACK],
     /// Any-hit traversal of one ray.
-    any: [u32; STACK],
+    pub(super) any: [u32; STACK],
     /// Packet traversal: (child, lanes that enter it).
     packet: [(u32, u8); STACK],
 }
@@ -251,7 +251,7 @@ impl Bvh<'_> {
     /// time with the scalar kernel (the same bits as the 8-wide one).
     #[inline(always)]
     fn closest_outlier(&self, ray: &Ray, mut best: Option<Hit>) -> Option<Hit> {
-        for k in 0..self.outliers {
+        for k in 0..self.shape.outliers {
             let t = self.outlier_t(k, ray);
             if t < f32::INFINITY {
                 let id = self.ids[k];
@@ -272,11 +272,6 @@ impl Bvh<'_> {
 
     /// Closest-hit traversal of the subtree at `root` (a node index or a
     /// leaf reference), improving `best`.
-    ///
-    /// The nearest child a node's test enters is visited next without a
-    /// trip through the stack; the others are inserted into the stack's
-    /// top, far to near, so they pop nearest first. Entries popped beyond
-    /// the closest hit so far are skipped.
     fn closest_from(
         &self,
         root: u32,
@@ -284,7 +279,6 @@ impl Bvh<'_> {
         best: &mut Option<Hit>,
         stack: &mut [(u32, f32); STACK],
     ) {
-        let slab = SlabRay::new(ray);
         let lanes = self.lanes();
         let ids = self.ids;
         // The closest t so far (t_max before any hit) and its sphere:
@@ -293,78 +287,28 @@ impl Bvh<'_> {
             Some(h) => (h.t, h.sphere, true),
             None => (ray.t_max, u32::MAX, false),
         };
-        let mut sp = 0usize;
-        let mut entry = root;
-        'visit: loop {
-            if entry & LEAF_BIT != 0 {
-                let start = ((entry & !LEAF_BIT) >> 3) as usize;
-                let t = lanes.leaf_t(entry, start, ray);
-                // Only the leaf's lanes that hit at or before the closest
-                // so far can be taken: most leaves have none.
-                let inf = f32x8::splat(f32::INFINITY);
-                let mut hits = lanes_bitmask(lanes_le(t, f32x8::splat(far)) & lanes_lt(t, inf))
-                    & leaf_lanes(entry);
-                if hits != 0 {
-                    let ts = t.to_array();
-                    while hits != 0 {
-                        let lane = hits.trailing_zeros() as usize;
-                        hits &= hits - 1;
-                        let (t, id) = (ts[lane], ids[start + lane]);
-                        // Before any hit `far` is t_max, which every
-                        // kernel t is below.
-                        if t < far || (t == far && id < id_best) {
-                            (far, id_best, found) = (t, id, true);
-                        }
+        walk_closest(self.nodes, root, ray, &mut far, stack, |entry, far| {
+            let start = ((entry & !LEAF_BIT) >> 3) as usize;
+            let t = lanes.leaf_t(entry, start, ray);
+            // Only the leaf's lanes that hit at or before the closest
+            // so far can be taken: most leaves have none.
+            let inf = f32x8::splat(f32::INFINITY);
+            let mut hits = lanes_bitmask(lanes_le(t, f32x8::splat(*far)) & lanes_lt(t, inf))
+                & leaf_lanes(entry);
+            if hits != 0 {
+                let ts = t.to_array();
+                while hits != 0 {
+                    let lane = hits.trailing_zeros() as usize;
+                    hits &= hits - 1;
+                    let (t, id) = (ts[lane], ids[start + lane]);
+                    // Before any hit `far` is t_max, which every
+                    // kernel t is below.
+                    if t < *far || (t == *far && id < id_best) {
+                        (*far, id_best, found) = (t, id, true);
                     }
-                }
-            } else {
-                let node = &self.nodes[entry as usize];
-                let (mut bits, tn) = slab.test(node, ray.t_min, far);
-                if bits != 0 {
-                    let tn = tn.to_array();
-                    let lane = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    if bits == 0 {
-                        // One child: nothing to order.
-                        entry = node.child[lane];
-                        continue 'visit;
-                    }
-                    // Two or more: sort them into the stack's top, then
-                    // take the nearest off it.
-                    let base = sp;
-                    stack[sp & STACK_MASK] = (node.child[lane], tn[lane]);
-                    sp += 1;
-                    while bits != 0 {
-                        let lane = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
-                        let item = (node.child[lane], tn[lane]);
-                        let mut j = sp;
-                        while j > base && stack[(j - 1) & STACK_MASK].1 < item.1 {
-                            stack[j & STACK_MASK] = stack[(j - 1) & STACK_MASK];
-                            j -= 1;
-                        }
-                        stack[j & STACK_MASK] = item;
-                        sp += 1;
-                    }
-                    sp -= 1;
-                    entry = stack[sp & STACK_MASK].0;
-                    continue 'visit;
                 }
             }
-            // The next stacked child not beyond the closest hit.
-            loop {
-                if sp == 0 {
-                    break 'visit;
-                }
-                sp -= 1;
-                let (e, t_enter) = stack[sp & STACK_MASK];
-                // A NaN entry distance cannot rule the child out: visit it.
-                if t_enter.partial_cmp(&far) != Some(core::cmp::Ordering::Greater) {
-                    entry = e;
-                    continue 'visit;
-                }
-            }
-        }
+        });
         if found {
             *best = Some(Hit {
                 t: far,
@@ -389,44 +333,17 @@ impl Bvh<'_> {
     }
 
     fn any_from(&self, ray: &Ray, stack: &mut [u32; STACK]) -> bool {
-        for k in 0..self.outliers {
+        for k in 0..self.shape.outliers {
             if self.outlier_t(k, ray) < f32::INFINITY {
                 return true;
             }
         }
-        let slab = SlabRay::new(ray);
         let lanes = self.lanes();
-        let mut sp = 0usize;
-        let mut entry = 0u32;
-        loop {
-            if entry & LEAF_BIT != 0 {
-                let start = ((entry & !LEAF_BIT) >> 3) as usize;
-                let t = lanes.leaf_t(entry, start, ray);
-                if lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) & leaf_lanes(entry) != 0
-                {
-                    return true;
-                }
-            } else {
-                let node = &self.nodes[entry as usize];
-                let (mut bits, _) = slab.test(node, ray.t_min, ray.t_max);
-                if bits != 0 {
-                    // Visit the first child now, stack the rest.
-                    entry = node.child[bits.trailing_zeros() as usize];
-                    bits &= bits - 1;
-                    while bits != 0 {
-                        stack[sp & STACK_MASK] = node.child[bits.trailing_zeros() as usize];
-                        sp += 1;
-                        bits &= bits - 1;
-                    }
-                    continue;
-                }
-            }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            entry = stack[sp & STACK_MASK];
-        }
+        walk_any(self.nodes, ray, stack, |entry| {
+            let start = ((entry & !LEAF_BIT) >> 3) as usize;
+            let t = lanes.leaf_t(entry, start, ray);
+            lanes_bitmask(lanes_lt(t, f32x8::splat(f32::INFINITY))) & leaf_lanes(entry) != 0
+        })
     }
 
     /// The closest hits of a packet, traversed as a packet: one box test
@@ -503,7 +420,7 @@ impl Bvh<'_> {
         let inv = [inv8(packet.dx), inv8(packet.dy), inv8(packet.dz)];
         self.packet_lanes(
             packet,
-            0..self.outliers,
+            0..self.shape.outliers,
             mask_from_bits(active as u8),
             &mut bt,
             &mut bi,
@@ -635,6 +552,121 @@ impl Bvh<'_> {
             }
         }
         out
+    }
+}
+
+/// Closest-hit traversal of the subtree at `root` (a node index or a leaf
+/// reference) over any leaves: `leaf(entry, far)` tests a leaf's items
+/// and lowers `far`, the closest `t` so far (the ray's `t_max` before any
+/// hit; it tracks its own best item). Children entered beyond `far` are
+/// skipped, entered at it are kept (a tie may go to a lower index).
+///
+/// The nearest child a node's test enters is visited next without a trip
+/// through the stack; the others are inserted into the stack's top, far to
+/// near, so they pop nearest first. Entries popped beyond the closest hit
+/// so far are skipped.
+#[inline(always)]
+pub(super) fn walk_closest(
+    nodes: &[BvhNode8],
+    root: u32,
+    ray: &Ray,
+    far: &mut f32,
+    stack: &mut [(u32, f32); STACK],
+    mut leaf: impl FnMut(u32, &mut f32),
+) {
+    let slab = SlabRay::new(ray);
+    let mut sp = 0usize;
+    let mut entry = root;
+    'visit: loop {
+        if entry & LEAF_BIT != 0 {
+            leaf(entry, far);
+        } else {
+            let node = &nodes[entry as usize];
+            let (mut bits, tn) = slab.test(node, ray.t_min, *far);
+            if bits != 0 {
+                let tn = tn.to_array();
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if bits == 0 {
+                    // One child: nothing to order.
+                    entry = node.child[lane];
+                    continue 'visit;
+                }
+                // Two or more: sort them into the stack's top, then
+                // take the nearest off it.
+                let base = sp;
+                stack[sp & STACK_MASK] = (node.child[lane], tn[lane]);
+                sp += 1;
+                while bits != 0 {
+                    let lane = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let item = (node.child[lane], tn[lane]);
+                    let mut j = sp;
+                    while j > base && stack[(j - 1) & STACK_MASK].1 < item.1 {
+                        stack[j & STACK_MASK] = stack[(j - 1) & STACK_MASK];
+                        j -= 1;
+                    }
+                    stack[j & STACK_MASK] = item;
+                    sp += 1;
+                }
+                sp -= 1;
+                entry = stack[sp & STACK_MASK].0;
+                continue 'visit;
+            }
+        }
+        // The next stacked child not beyond the closest hit.
+        loop {
+            if sp == 0 {
+                break 'visit;
+            }
+            sp -= 1;
+            let (e, t_enter) = stack[sp & STACK_MASK];
+            // A NaN entry distance cannot rule the child out: visit it.
+            if t_enter.partial_cmp(far) != Some(core::cmp::Ordering::Greater) {
+                entry = e;
+                continue 'visit;
+            }
+        }
+    }
+}
+
+/// Any-hit traversal of the whole tree over any leaves: true as soon as
+/// `leaf(entry)` reports a hit.
+#[inline(always)]
+pub(super) fn walk_any(
+    nodes: &[BvhNode8],
+    ray: &Ray,
+    stack: &mut [u32; STACK],
+    mut leaf: impl FnMut(u32) -> bool,
+) -> bool {
+    let slab = SlabRay::new(ray);
+    let mut sp = 0usize;
+    let mut entry = 0u32;
+    loop {
+        if entry & LEAF_BIT != 0 {
+            if leaf(entry) {
+                return true;
+            }
+        } else {
+            let node = &nodes[entry as usize];
+            let (mut bits, _) = slab.test(node, ray.t_min, ray.t_max);
+            if bits != 0 {
+                // Visit the first child now, stack the rest.
+                entry = node.child[bits.trailing_zeros() as usize];
+                bits &= bits - 1;
+                while bits != 0 {
+                    stack[sp & STACK_MASK] = node.child[bits.trailing_zeros() as usize];
+                    sp += 1;
+                    bits &= bits - 1;
+                }
+                continue;
+            }
+        }
+        if sp == 0 {
+            return false;
+        }
+        sp -= 1;
+        entry = stack[sp & STACK_MASK];
     }
 }
 
