@@ -6,8 +6,8 @@
 //! cargo run --release -p strata-runner --example trace_cost -- cover_incoherent bvh 100000 2
 //! ```
 //!
-//! traces the first `RAYS` rays of the workload `PASSES` times with the
-//! named kernel. Two counts give the marginal cost per ray: the
+//! traces `RAYS` rays of the workload (evenly through its list) `PASSES`
+//! times with the named kernel. Two counts give the marginal cost per ray: the
 //! difference of the instruction totals over `RAYS` times the difference
 //! of passes.
 //!
@@ -24,37 +24,22 @@
 //! `prim_brute` (the spheres as the caller's primitives: a
 //! [`PrimitiveBvh`] whose routine is `intersect_sphere`, and its brute
 //! force loop), `textbook` (a 1×8 loop of the textbook formula: one
-//! discriminant, no robustness; not part of the library).
+//! discriminant, no robustness; not part of the library), and
+//! `accuracy` (not for counting: how often the robust and the textbook
+//! formula pick another sphere than an `f64` reference does, as is, moved
+//! 4096 from the origin, and seen from 2000 further back).
 
 use glam::Vec3;
 use strata::trace::{
-    Aabb, BVH_MIN_SPHERES, Bvh, BvhNode8, BvhStack, PrimitiveBvh, Primitives, Ray, Sphere,
-    SphereChunk8, SphereSet, any_hit_1x8, bvh_storage_for, chunks_for, closest_hit_1x8,
-    closest_primitive_hit, intersect_sphere, primitive_bvh_storage_for,
+    BVH_MIN_SPHERES, Bvh, BvhNode8, BvhStack, PrimitiveBvh, Ray, Sphere, SphereChunk8, SphereSet,
+    any_hit_1x8, bvh_storage_for, chunks_for, closest_hit_1x8, closest_primitive_hit,
+    primitive_bvh_storage_for,
 };
 use strata_runner::scenes::{COVER_VIEW, cover_spheres};
-use strata_runner::workload::{camera_rays, random_rays, random_spheres_10k, ray_box};
+use strata_runner::workload::{
+    SpheresAsPrimitives, camera_rays, random_rays, random_spheres_10k, ray_box,
+};
 use wide::f32x8;
-
-/// Spheres as the caller's primitives.
-struct Balls<'a>(&'a [Sphere]);
-
-impl Primitives for Balls<'_> {
-    type Data = ();
-    fn len(&self) -> usize {
-        self.0.len()
-    }
-    fn bounds(&self, i: usize) -> Aabb {
-        let s = self.0[i];
-        Aabb::new(
-            s.center - Vec3::splat(s.radius),
-            s.center + Vec3::splat(s.radius),
-        )
-    }
-    fn intersect(&self, i: usize, ray: &Ray) -> Option<(f32, ())> {
-        intersect_sphere(&self.0[i], ray).map(|t| (t, ()))
-    }
-}
 
 /// The ground, the three big spheres and `n − 4` small ones of the cover,
 /// evenly through its list.
@@ -99,6 +84,98 @@ fn textbook_closest(chunks: &[[f32x8; 4]], ray: &Ray) -> Option<(f32, u32)> {
     (best.1 != u32::MAX).then_some(best)
 }
 
+/// How often each formula's closest sphere (or miss) differs from the
+/// `f64` reference: on the workload as it is, moved 4096 away along x
+/// and z, and with every ray started 2000 further back along itself.
+fn accuracy(workload: &str, spheres: &[Sphere], rays: &[Ray], n: usize) {
+    let step = (rays.len() / n.max(1)).max(1);
+    let rays: Vec<Ray> = rays.iter().step_by(step).take(n).copied().collect();
+    let text = |s: &[Sphere]| -> Vec<[f32x8; 4]> {
+        s.chunks(8)
+            .map(|c| {
+                let mut a = [[0.0f32; 8]; 4];
+                for (lane, s) in c.iter().enumerate() {
+                    a[0][lane] = s.center.x;
+                    a[1][lane] = s.center.y;
+                    a[2][lane] = s.center.z;
+                    a[3][lane] = s.radius;
+                }
+                a.map(f32x8::new)
+            })
+            .collect()
+    };
+    let far = shifted(spheres, &rays, Vec3::new(4096.0, 0.0, 4096.0));
+    let from_afar = backed(&rays, 2000.0);
+    for (name, s, r) in [
+        ("as is", spheres, &rays[..]),
+        ("moved 4096 away", &far.0[..], &far.1[..]),
+        ("from 2000 back", spheres, &from_afar[..]),
+    ] {
+        let t = text(s);
+        let (mut robust, mut textbook) = (0, 0);
+        for ray in r {
+            let want = f64_closest(s, ray);
+            robust += usize::from(strata::trace::closest_hit(s, ray).map(|h| h.sphere) != want);
+            textbook += usize::from(textbook_closest(&t, ray).map(|h| h.1) != want);
+        }
+        println!(
+            "{workload} {name}: {} rays; wrong sphere or hit/miss against f64: robust {robust}, textbook {textbook}",
+            r.len()
+        );
+    }
+}
+
+/// The closest hit in `f64` (the inputs as given, exact to rounding in
+/// `f64`): the reference the `accuracy` kernel judges both formulas by.
+fn f64_closest(spheres: &[Sphere], ray: &Ray) -> Option<u32> {
+    let d = ray.dir.as_dvec3();
+    let mut best = (f64::INFINITY, None);
+    for (i, s) in spheres.iter().enumerate() {
+        let f = ray.origin.as_dvec3() - s.center.as_dvec3();
+        let r = s.radius as f64;
+        // a = d·d in full, so the unit-direction rounding costs nothing.
+        let (a, b, c) = (d.dot(d), f.dot(d), f.dot(f) - r * r);
+        let disc = b * b - a * c;
+        if disc < 0.0 {
+            continue;
+        }
+        for t in [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a] {
+            if t > ray.t_min as f64 && t < ray.t_max as f64 {
+                if t < best.0 {
+                    best = (t, Some(i as u32));
+                }
+                break;
+            }
+        }
+    }
+    best.1
+}
+
+/// The workload's spheres and rays moved by `shift` (a scene away from
+/// the origin, where `f32` has fewer bits to spare).
+fn shifted(spheres: &[Sphere], rays: &[Ray], shift: Vec3) -> (Vec<Sphere>, Vec<Ray>) {
+    (
+        spheres
+            .iter()
+            .map(|s| Sphere::new(s.center + shift, s.radius))
+            .collect(),
+        rays.iter()
+            .map(|r| Ray {
+                origin: r.origin + shift,
+                ..*r
+            })
+            .collect(),
+    )
+}
+
+/// The rays started `back` further back along themselves: the same
+/// lines, seen from afar (a telephoto view).
+fn backed(rays: &[Ray], back: f32) -> Vec<Ray> {
+    rays.iter()
+        .map(|r| Ray::new(r.origin - r.dir * back, r.dir))
+        .collect()
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let parse = |i: usize| args.get(i).and_then(|n| n.parse::<usize>().ok());
@@ -130,7 +207,15 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let rays = &rays[..n.min(rays.len())];
+    if kernel == "accuracy" {
+        accuracy(workload, &spheres, &rays, n);
+        return;
+    }
+    // `RAYS` of them, evenly through the list (a prefix of the camera's
+    // would be the sky's top rows).
+    let step = (rays.len() / n.max(1)).max(1);
+    let rays: Vec<Ray> = rays.iter().step_by(step).take(n).copied().collect();
+    let rays = &rays[..];
     let mut chunks = vec![SphereChunk8::EMPTY; chunks_for(spheres.len())];
     let set = SphereSet::build(&spheres, &mut chunks).expect("a valid layout");
     let s = bvh_storage_for(spheres.len());
@@ -140,7 +225,7 @@ fn main() {
         vec![0; s.ids],
     );
     let bvh = Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).expect("in range");
-    let balls = Balls(&spheres);
+    let balls = SpheresAsPrimitives(&spheres);
     let ps = primitive_bvh_storage_for(spheres.len());
     let (mut pnodes, mut pids) = (vec![BvhNode8::EMPTY; ps.nodes], vec![0; ps.ids]);
     let pbvh = PrimitiveBvh::build(&balls, &mut pnodes, &mut pids).expect("in range");

@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec3};
 use strata::mapping::sample_uniform_sphere;
 use strata::rng::{Pcg32, next_f32};
-use strata::trace::{Ray, Sphere};
+use strata::trace::{Aabb, Primitives, Ray, Sphere, intersect_sphere};
 
 use crate::scenes::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres};
 
@@ -101,6 +101,26 @@ mod tests {
         );
         let mean = rays.iter().map(|r| r.dir).sum::<Vec3>() / rays.len() as f32;
         assert!(mean.length() < 0.05, "{mean}");
+    }
+}
+
+/// Spheres as a caller's own primitives (their boxes, the sphere kernel
+/// as the routine): what the BVH over the caller's primitives costs
+/// against the sphere BVH on the same geometry.
+#[derive(Clone, Copy, Debug)]
+pub struct SpheresAsPrimitives<'a>(pub &'a [Sphere]);
+
+impl Primitives for SpheresAsPrimitives<'_> {
+    type Data = ();
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    fn bounds(&self, i: usize) -> Aabb {
+        let s = self.0[i];
+        Aabb::new(s.center - s.radius, s.center + s.radius)
+    }
+    fn intersect(&self, i: usize, ray: &Ray) -> Option<(f32, ())> {
+        intersect_sphere(&self.0[i], ray).map(|t| (t, ()))
     }
 }
 

@@ -10,7 +10,7 @@ use strata::{Halton, Independent, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::job::{Job, run, run_with_sampler};
 use crate::scenes::{SceneBuffers, built_in};
-use crate::workload::{sampler_pattern, shadow_rays, trace_workloads};
+use crate::workload::{SpheresAsPrimitives, sampler_pattern, shadow_rays, trace_workloads};
 
 use super::harness::{
     Contender, Done, Group, Options, RENDER_COST, Ratios, Report, Suite, contender, cpu_model,
@@ -339,7 +339,9 @@ fn intersection(s: &mut Suite<'_>) -> Result<()> {
 }
 
 /// The BVH against the brute-force 8-wide loop, one ray at a time and in
-/// packets: closest and any hit on the cover layout (camera rays of the
+/// packets, and the BVH over the same spheres as a caller's primitives
+/// (`SpheresAsPrimitives`: their boxes, `intersect_sphere` as the routine)
+/// with its brute-force loop: closest and any hit on the cover layout (camera rays of the
 /// cover camera at 1280 × 720; 10⁶ incoherent rays from
 /// `[-11, 11] × [0, 2] × [-11, 11]`, directions uniform on the sphere) and
 /// on 10 000 random spheres (10⁶ incoherent rays from their box); then the
@@ -376,7 +378,12 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
             rays.len()
         })];
         let packets: Vec<RayPacket8> = rays.chunks(8).map(RayPacket8::from_rays).collect();
-        let (set, tree, packets) = (&set, &tree, &packets);
+        // The same spheres as a caller's own primitives.
+        let prims = SpheresAsPrimitives(spheres);
+        let size = primitive_bvh_storage_for(spheres.len());
+        let (mut prim_nodes, mut prim_ids) = (vec![BvhNode8::EMPTY; size.nodes], vec![0; size.ids]);
+        let prim_tree = PrimitiveBvh::build(&prims, &mut prim_nodes, &mut prim_ids)?;
+        let (set, tree, packets, prim_tree, prims) = (&set, &tree, &packets, &prim_tree, &prims);
         // Packets traversed as packets throughout, and handing subtrees
         // that at most 2 of their rays reach to the single-ray traversal.
         let (no_fallback, fallback_2) =
@@ -397,6 +404,22 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     let mut stack = BvhStack::new();
                     rays.iter()
                         .map(|r| closest(tree.closest_hit_with(r, &mut stack)))
+                        .sum()
+                }),
+                contender("primitive bvh", n, || {
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .map(|r| {
+                            prim_tree
+                                .closest_hit_with(r, &mut stack)
+                                .map_or(0, |h| h.primitive as u64)
+                        })
+                        .sum()
+                }),
+                contender("primitive brute", brute.len() as f64, || {
+                    brute
+                        .iter()
+                        .map(|r| closest_primitive_hit(prims, r).map_or(0, |h| h.primitive as u64))
                         .sum()
                 }),
                 contender("bvh packet", n, || {
@@ -430,6 +453,12 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
                     let mut stack = BvhStack::new();
                     rays.iter()
                         .filter(|r| tree.any_hit_with(r, &mut stack))
+                        .count() as u64
+                }),
+                contender("primitive bvh", n, || {
+                    let mut stack = BvhStack::new();
+                    rays.iter()
+                        .filter(|r| prim_tree.any_hit_with(r, &mut stack))
                         .count() as u64
                 }),
             ],
