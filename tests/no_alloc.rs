@@ -4,9 +4,10 @@
 //! up to a margin of 64 for rayon's scheduling-dependent internal buffers
 //! (an allocation per sample would add over 19 000 here).
 //!
-//! The core itself cannot allocate: it does not link `alloc` at all
-//! (`#![no_std]` without `extern crate alloc`; the no_std staticlib check
-//! builds it so), so only the runner's loop around it needs this test.
+//! The core itself cannot allocate: without its `alloc` feature (off by
+//! default; the runner does not turn it on) it does not link `alloc` at
+//! all (the no_std staticlib check builds it so), so only the runner's
+//! loop around it needs this test.
 //!
 //! The counter counts every thread, so the whole check is one test in its
 //! own binary: no other test may run beside it.

@@ -24,12 +24,10 @@ pub use geometry::{COURSE_VIEW, COVER_VIEW, View, course_spheres, cover_spheres}
 // makes them.
 pub use crate::image_io::Image;
 
-/// The sphere count from which the runner traces a scene through a BVH.
-/// On the course's 4 spheres the brute-force 8-wide loop is faster and on
-/// the cover's 485 the BVH is (`strata bench`); 16 (two 8-wide chunks) is
-/// a round point between, not a measured crossover. The choice never
-/// changes a pixel.
-pub const BVH_THRESHOLD: usize = 16;
+/// The sphere count from which the runner traces a scene through a BVH:
+/// the core's measured crossover, [`strata::trace::BVH_MIN_SPHERES`]. The
+/// choice never changes a pixel.
+pub const BVH_THRESHOLD: usize = strata::trace::BVH_MIN_SPHERES;
 
 /// Whether a scene is traced through a BVH (it never changes a pixel).
 #[derive(
