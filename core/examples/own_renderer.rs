@@ -12,7 +12,7 @@
 //! Run with `cargo run --release -p strata --features alloc --example
 //! own_renderer [out.ppm]` (the `alloc` feature gives the owning tree).
 
-use glam::{UVec2, Vec3};
+use strata::glam::{UVec2, Vec3};
 use strata::mapping::sample_cosine_hemisphere;
 use strata::onb::Onb;
 use strata::trace::{Aabb, OwnedPrimitiveBvh, Primitives, Ray, Sphere, intersect_sphere};
@@ -68,7 +68,8 @@ impl World {
 }
 
 /// Möller–Trumbore; the hit is kept only if it lies in the triangle's
-/// box (a ray within rounding of the plane can compute a `t` far off).
+/// box (a ray within rounding of the plane can compute a `t` far off):
+/// the requirement of `Primitives`, checked by `Aabb::holds_hit`.
 fn hit_triangle(v: &[Vec3; 3], ray: &Ray) -> Option<f32> {
     let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
     let p = ray.dir.cross(e2);
@@ -82,11 +83,7 @@ fn hit_triangle(v: &[Vec3; 3], ray: &Ray) -> Option<f32> {
     let w = ray.dir.dot(q) / det;
     let t = e2.dot(q) / det;
     let inside = u >= 0.0 && w >= 0.0 && u + w <= 1.0 && t > ray.t_min && t < ray.t_max;
-    let b = Aabb::from_points(v);
-    let tol = 1e-5 * (1.0 + ray.origin.abs().max_element() + b.max.abs().max_element());
-    let at = ray.at(t);
-    let in_box = (b.min - tol).cmple(at).all() && at.cmple(b.max + tol).all();
-    (inside && in_box).then_some(t)
+    (inside && Aabb::from_points(v).holds_hit(ray, t)).then_some(t)
 }
 
 impl Primitives for World {

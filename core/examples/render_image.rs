@@ -48,7 +48,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sphere_material = [0, 1, 2, 3];
 
     // Caller-owned storage, sized for 4 spheres without a BVH (a BVH pays
-    // from about 16 spheres; it never changes a pixel).
+    // from about `strata::trace::BVH_MIN_SPHERES` spheres; it never changes
+    // a pixel).
     let size = SceneStorageSize::for_spheres(spheres.len(), false);
     let mut chunks = [SphereChunk8::EMPTY; 1];
     let mut lights = [0u32; 4];

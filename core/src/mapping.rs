@@ -47,8 +47,9 @@ pub use piecewise::{PIECEWISE_2D_SIZE, PiecewiseConstant2D};
 const INV_4PI: f32 = FRAC_1_PI / 4.0;
 /// `1 / (2π)`.
 const INV_2PI: f32 = FRAC_1_PI / 2.0;
-/// `|p|²` of the rim of the unit disk, with the rounding of the maps.
-const DISK_RIM2: f32 = 1.0 + 4.0 * f32::EPSILON;
+/// `|p|²` of the rim of the unit disk and ball, with the rounding of the
+/// maps.
+const RIM2: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// `sqrt(max(x, 0))`: rounding can push `1 - z²` a hair below zero. Unlike
 /// `f32::max`, it keeps a NaN a NaN.
@@ -140,12 +141,14 @@ pub fn sample_uniform_ball(u: Vec3) -> Vec3 {
 }
 
 /// The density of [`sample_uniform_ball`]: `3 / (4π)` per unit volume
-/// inside the ball (`|p| ≤ 1`), `0` outside it and for a NaN point.
+/// inside the ball (`|p| ≤ 1`, up to the rounding of its samples at the
+/// rim), `0` outside it and for a NaN point.
 #[doc(alias = "square_to_uniform_ball_pdf")]
 #[inline]
 #[must_use]
 pub fn pdf_uniform_ball(p: Vec3) -> f32 {
-    if p.length_squared() <= 1.0 {
+    // The rim's samples reach a few ulps past 1.
+    if p.length_squared() <= RIM2 {
         3.0 * INV_4PI
     } else {
         0.0
@@ -332,7 +335,7 @@ fn concentric(u: Vec2) -> (f32, Vec2) {
 #[inline]
 #[must_use]
 pub fn pdf_concentric_disk(p: Vec2) -> f32 {
-    if p.length_squared() <= DISK_RIM2 {
+    if p.length_squared() <= RIM2 {
         FRAC_1_PI
     } else {
         0.0
@@ -612,6 +615,32 @@ mod tests {
                 (back - u).abs().max_element()
             );
         }
+    }
+
+    /// Every sample of the ball has a positive density, at the rim too
+    /// (`∛u₂` rounds to 1 there and the direction's length to a few ulps
+    /// past it), and points clearly outside have none.
+    #[test]
+    fn uniform_ball_samples_have_density_at_the_rim() {
+        let mut worst = 0.0f32;
+        for z in [1.0 - f32::EPSILON / 2.0, 1.0 - f32::EPSILON, 0.999_999, 0.5] {
+            for u in grid(1024, 0.0) {
+                let p = sample_uniform_ball(u.extend(z));
+                worst = worst.max(p.length_squared());
+                assert!(
+                    pdf_uniform_ball(p) > 0.0,
+                    "u {u} z {z}: |p|² {}",
+                    p.length_squared()
+                );
+            }
+        }
+        assert!(worst > 1.0, "the grid reaches past the rim: {worst}");
+        std::eprintln!(
+            "largest |p|² {worst}, 1 + {} ε",
+            (worst - 1.0) / f32::EPSILON
+        );
+        assert_eq!(pdf_uniform_ball(Vec3::new(0.0, 0.0, 1.0 + 1e-5)), 0.0);
+        assert_eq!(pdf_uniform_ball(Vec3::NAN), 0.0);
     }
 
     #[test]

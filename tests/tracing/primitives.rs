@@ -19,17 +19,6 @@ use strata::trace::{
 
 use super::bvh::{range, unit};
 
-/// Whether `p` is in `b` grown by 8 ε of the coordinates (a routine's own
-/// rounding): the check a routine makes to keep its hits in its box when
-/// a ray runs within rounding of a triangle's plane or a box's face.
-fn near_box(b: &Aabb, ray: &Ray, t: f32) -> bool {
-    let p = ray.at(t);
-    let tol = 8.0
-        * f32::EPSILON
-        * (ray.origin.abs().element_sum() + b.min.abs().max(b.max.abs()).element_sum());
-    b.min.cmple(p + tol).all() && p.cmple(b.max + tol).all()
-}
-
 /// Triangles, tested watertight (Woop, Benthin and Wald 2013: shear the
 /// triangle into the ray's frame, signed edge functions, the depth as
 /// their weighted sum): the hit's data is its barycentrics `(u, v)`.
@@ -85,7 +74,9 @@ impl Primitives for Triangles {
     }
     fn intersect(&self, i: usize, ray: &Ray) -> Option<(f32, (f32, f32))> {
         let hit = watertight(&self.v[i], ray)?;
-        near_box(&Aabb::from_points(&self.v[i]), ray, hit.0).then_some(hit)
+        Aabb::from_points(&self.v[i])
+            .holds_hit(ray, hit.0)
+            .then_some(hit)
     }
 }
 
@@ -126,13 +117,13 @@ impl Primitives for Boxes {
         } else {
             (far, 3)
         };
-        (t > ray.t_min && t < ray.t_max && near_box(b, ray, t)).then_some((t, axis as u8))
+        (t > ray.t_min && t < ray.t_max && b.holds_hit(ray, t)).then_some((t, axis as u8))
     }
     fn occludes(&self, i: usize, ray: &Ray) -> bool {
         let b = &self.0[i];
         slab(b, ray).is_some_and(|(near, far, _)| {
             let t = if near > ray.t_min { near } else { far };
-            t > ray.t_min && t < ray.t_max && near_box(b, ray, t)
+            t > ray.t_min && t < ray.t_max && b.holds_hit(ray, t)
         })
     }
 }
@@ -452,7 +443,7 @@ fn watertight_alone_can_hit_outside_its_box() {
             if let Some((t_hit, _)) = watertight(t, ray) {
                 hits += 1;
                 let b = Aabb::from_points(t);
-                outside += usize::from(!near_box(&b, ray, t_hit));
+                outside += usize::from(!b.holds_hit(ray, t_hit));
             }
         }
     }

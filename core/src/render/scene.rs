@@ -172,7 +172,8 @@ pub struct SceneStorageSize {
 
 impl SceneStorageSize {
     /// The sizes for `n` spheres, with room for a BVH if `bvh` (it pays
-    /// for itself from about 16 spheres; it never changes a hit).
+    /// for itself from about [`BVH_MIN_SPHERES`](crate::trace::BVH_MIN_SPHERES)
+    /// spheres; it never changes a hit).
     /// A `const fn`, so storage without an allocator can be sized by it:
     ///
     /// ```

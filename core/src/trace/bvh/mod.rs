@@ -29,16 +29,20 @@ pub(crate) const BVH_LEAF_MAX: usize = 8;
 /// position.
 pub const BVH_MAX_SPHERES: usize = 1 << 27;
 
-/// The sphere count from which rendering through a [`Bvh`] takes fewer
-/// instructions per path than the brute-force 1×8 loop
-/// ([`closest_hit_1x8`](super::closest_hit_1x8)). Measured with
-/// callgrind on scenes of the cover's kind (a ground sphere, three large
-/// spheres and small ones scattered evenly) of 8 to 64 spheres, 8 spp,
-/// on an x86-64-v3 build: up to 24 spheres the loop takes 7–20 % fewer
-/// instructions, from 33 the tree 5–20 % fewer; from 25 to 32 the two
-/// stay within 4 % of each other, either way round. Results are the same
-/// bits either way; this only picks the faster.
-pub const BVH_MIN_SPHERES: usize = 32;
+/// The sphere count from which tracing through a [`Bvh`] takes fewer
+/// instructions per ray than the brute-force 1×8 loop
+/// ([`closest_hit_1x8`](super::closest_hit_1x8)) on incoherent rays, as
+/// a path tracer's bounces are: measured with callgrind on an x86-64-v3
+/// build, on scenes of the cover's kind (a ground sphere, three large
+/// spheres and small ones scattered evenly) of every size from 8 to 64
+/// spheres, the loop is cheaper up to 32 spheres (four 8-wide chunks)
+/// and the tree from 33 on, at every size. Whole renders (instructions
+/// per path, 8 spp) agree within 2 % but at one size of the sweep (26
+/// spheres, where that scene's layout suits the tree: 3.9 %). Coherent
+/// rays traced one at a time cross later (camera rays: from 41 spheres);
+/// a renderer that traces such rays singly may choose its own threshold.
+/// Results are the same bits either way; this only picks the faster.
+pub const BVH_MIN_SPHERES: usize = 33;
 
 /// Depth (in node levels) above which splits are binned SAH; below, median
 /// splits.
@@ -317,7 +321,6 @@ impl Bvh<'_> {
         if spheres.len() != self.shape.len {
             return false;
         }
-        let hittable = spheres.iter().filter(|s| hittable(s)).count();
         let mut k = 0;
         while k < self.ids.len() && self.ids[k] != u32::MAX {
             let Some(s) = spheres.get(self.ids[k] as usize) else {
@@ -330,8 +333,11 @@ impl Bvh<'_> {
             }
             k += 1;
         }
-        // Ids are distinct by construction, so a full count is a match.
-        k == hittable
+        // Every hittable sphere once: the ids held are the build's.
+        let expected = parts::IdSums::of(
+            (0..spheres.len() as u32).filter(|&i| hittable(&spheres[i as usize])),
+        );
+        parts::IdSums::of(self.ids[..k].iter().copied()) == expected
     }
 
     /// The number of spheres it was built over (hittable or not).

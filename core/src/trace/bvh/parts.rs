@@ -1,6 +1,6 @@
 //! Views of built storage: [`Bvh::from_parts`] and
 //! [`PrimitiveBvh::from_parts`] check that slices kept from a build (in a
-//! struct, a file, another thread's buffers) still hold a tree the build
+//! struct, another thread's buffers) still hold a tree the build
 //! could have written, so that every query stays in bounds, ends, and
 //! skips no box it must enter; then they view it without copying.
 
@@ -14,6 +14,45 @@ use crate::trace::Sphere;
 
 fn invalid(reason: &'static str) -> BvhError {
     BvhError::InvalidStorage { reason }
+}
+
+/// The Mersenne prime `2⁶¹ − 1`, the modulus of [`IdSums`].
+const SUMS_MODULUS: u64 = (1 << 61) - 1;
+
+/// The count and the power sums `Σ idᵏ mod (2⁶¹ − 1)`, `k = 1..=4`, of a
+/// list of ids: a check without memory that two lists hold the same ids.
+/// Lists of equal count that differ in at most four entries always differ
+/// here (Newton's identities: four power sums fix the multiset of the
+/// differing entries, ids being below the modulus); lists that differ in
+/// more differ unless four 61-bit sums agree by chance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct IdSums {
+    count: usize,
+    sums: [u64; 4],
+}
+
+impl IdSums {
+    /// Adds one id.
+    pub(super) fn add(&mut self, id: u32) {
+        let mul =
+            |a: u64, b: u64| ((u128::from(a) * u128::from(b)) % u128::from(SUMS_MODULUS)) as u64;
+        let x = u64::from(id);
+        let mut power = x;
+        for sum in &mut self.sums {
+            *sum = (*sum + power) % SUMS_MODULUS;
+            power = mul(power, x);
+        }
+        self.count += 1;
+    }
+
+    /// The sums of `ids`.
+    pub(super) fn of(ids: impl IntoIterator<Item = u32>) -> Self {
+        let mut s = Self::default();
+        for id in ids {
+            s.add(id);
+        }
+        s
+    }
 }
 
 /// Checks the lengths of the slices against what `n` items need.
@@ -127,6 +166,11 @@ fn check_tree(
     if ids[m..].iter().any(|&i| i != u32::MAX) {
         return Err(invalid("an id after the unused ones"));
     }
+    // A leaf's 8-wide loads reach 7 past its start: items past `n` would
+    // take them past the storage.
+    if m > n {
+        return Err(invalid("more ids in use than items"));
+    }
     if ids[..m].iter().any(|&i| i as usize >= n) {
         return Err(invalid("an id past the items"));
     }
@@ -173,9 +217,11 @@ impl<'a> Bvh<'a> {
     /// of the spheres under it (recomputed from the sphere lanes); the
     /// leaves covering each stored sphere once; ids below `len`. So every
     /// query stays in bounds, ends, and returns the brute-force answer over
-    /// the spheres in the lanes. It cannot prove without memory that no id
-    /// repeats (only storage not written by `build` repeats one); check
-    /// [`Bvh::built_from`] against the spheres for that.
+    /// the spheres in the lanes. Which spheres those should be it cannot
+    /// know without them: [`Bvh::built_from`] checks the lanes and ids
+    /// against the spheres (an id repeated or left out is found when at
+    /// most four ids differ from the build's, and otherwise unless four
+    /// 61-bit sums agree by chance).
     ///
     /// ```
     /// use glam::Vec3;
@@ -243,8 +289,10 @@ impl<'a, P: Primitives + ?Sized> PrimitiveBvh<'a, P> {
     /// A view of a tree that [`PrimitiveBvh::build`] wrote earlier into
     /// these slices over `prims`, after the checks of [`Bvh::from_parts`]
     /// (boxes recomputed from `prims.bounds`), in `O(n)` calls of
-    /// `bounds`. It cannot prove without memory that no id repeats (only
-    /// storage not written by `build` repeats one).
+    /// `bounds`. The ids must list every primitive with a box once: an id
+    /// repeated or left out is refused when at most four ids differ from
+    /// the build's, and otherwise unless four 61-bit sums agree by chance
+    /// (a check without memory).
     ///
     /// ```
     /// use strata::trace::*;
@@ -288,6 +336,12 @@ impl<'a, P: Primitives + ?Sized> PrimitiveBvh<'a, P> {
             }
             Ok(padded(&b))
         })?;
+        // The build lists every primitive with a box, once, in some order.
+        let expected = IdSums::of((0..n as u32).filter(|&i| !prims.bounds(i as usize).is_empty()));
+        let held = IdSums::of(ids.iter().copied().take_while(|&i| i != u32::MAX));
+        if held != expected {
+            return Err(invalid("ids that repeat or leave a primitive out"));
+        }
         Ok(Self::assemble(prims, nodes, ids, shape))
     }
 }
@@ -360,7 +414,9 @@ mod tests {
                 }
                 6 => {
                     let i = (x as usize) % ids.len();
-                    ids[i] = [x % 400, u32::MAX, ids[(i + 1) % ids.len()]][(x % 3) as usize];
+                    let j = (rng.next_u32() as usize) % n;
+                    ids[i] =
+                        [x % 400, u32::MAX, ids[(i + 1) % ids.len()], ids[j]][(x % 4) as usize];
                 }
                 _ => {
                     let i = (x as usize) % lanes.len();
@@ -385,6 +441,11 @@ mod tests {
                 let l = |a: usize| lanes[a * width + pos];
                 held[id as usize] = Sphere::new(Vec3::new(l(0), l(1), l(2)), l(3));
             }
+            // A repeated id means a sphere left out: never taken for the
+            // build's tree.
+            if !distinct {
+                assert!(!bvh.built_from(&spheres), "trial {trial}");
+            }
             for ray in &rays {
                 let got = bvh.closest_hit(ray);
                 let any = bvh.any_hit(ray);
@@ -397,10 +458,132 @@ mod tests {
                 }
             }
         }
+        assert!(
+            Bvh::from_parts(&nodes, &lanes, &ids, n)
+                .unwrap()
+                .built_from(&spheres)
+        );
         std::eprintln!("{refused} refused, {accepted} accepted");
         assert!(
             refused > 1000 && accepted > 100,
             "{refused} refused, {accepted} accepted"
         );
+    }
+
+    /// Storage of a larger tree viewed as a smaller one (its ids folded
+    /// into range) is refused: its leaves would load lanes past the
+    /// storage. And a view repeating an id is never the build's.
+    #[test]
+    fn a_larger_tree_viewed_as_a_smaller_one_is_refused() {
+        let spheres: Vec<Sphere> = (0..9)
+            .map(|i| Sphere::new(Vec3::new(i as f32 * 3.0, 0.0, -5.0), 1.0))
+            .collect();
+        let size = bvh_storage_for(spheres.len());
+        let (mut nodes, mut lanes, mut ids) = (
+            vec![BvhNode8::EMPTY; size.nodes],
+            vec![0.0; size.lanes],
+            vec![0u32; size.ids],
+        );
+        Bvh::build(&spheres, &mut nodes, &mut lanes, &mut ids).unwrap();
+        for len in 0..9 {
+            let folded: Vec<u32> = ids
+                .iter()
+                .map(|&i| {
+                    if i == u32::MAX || len == 0 {
+                        i
+                    } else {
+                        i % len as u32
+                    }
+                })
+                .collect();
+            let need = bvh_storage_for(len);
+            // Lanes re-laid at the smaller width, as such storage would be.
+            let mut small = vec![0.0; need.lanes];
+            for a in 0..4 {
+                for pos in 0..need.ids {
+                    small[a * need.ids + pos] = lanes[a * size.ids + pos];
+                }
+            }
+            assert!(
+                Bvh::from_parts(&nodes, &small, &folded, len).is_err(),
+                "len {len}"
+            );
+        }
+        let mut twice = ids.clone();
+        twice[1] = twice[0];
+        if let Ok(bvh) = Bvh::from_parts(&nodes, &lanes, &twice, spheres.len()) {
+            assert!(!bvh.built_from(&spheres));
+        }
+    }
+
+    /// Primitives whose boxes overlap, so ids can move between leaves
+    /// without a box check noticing.
+    struct Dots(usize);
+    impl crate::trace::Primitives for Dots {
+        type Data = ();
+        fn len(&self) -> usize {
+            self.0
+        }
+        fn bounds(&self, i: usize) -> crate::trace::Aabb {
+            // Every third primitive can never be hit: the build leaves it out.
+            if i % 3 == 2 {
+                return crate::trace::Aabb::new([1.0; 3], [0.0; 3]);
+            }
+            crate::trace::Aabb::new([0.0; 3], [1.0; 3])
+        }
+        fn intersect(&self, _: usize, _: &Ray) -> Option<(f32, ())> {
+            None
+        }
+    }
+
+    /// A primitive tree whose ids repeat one or leave one out is refused,
+    /// though every box still holds its leaves.
+    #[test]
+    fn primitive_ids_that_repeat_or_leave_one_out_are_refused() {
+        use super::super::{PrimitiveBvh, primitive_bvh_storage_for};
+        let prims = Dots(40);
+        let size = primitive_bvh_storage_for(prims.0);
+        let (mut nodes, mut ids) = (vec![BvhNode8::EMPTY; size.nodes], vec![0u32; size.ids]);
+        PrimitiveBvh::build(&prims, &mut nodes, &mut ids).unwrap();
+        assert!(PrimitiveBvh::from_parts(&prims, &nodes, &ids).is_ok());
+        let used = ids.iter().take_while(|&&i| i != u32::MAX).count();
+        assert_eq!(used, 27);
+        for (a, b) in [(0, 1), (5, 20), (26, 0)] {
+            let mut twice = ids.clone();
+            twice[a] = twice[b];
+            assert!(PrimitiveBvh::from_parts(&prims, &nodes, &twice).is_err());
+            // An unhittable primitive's id in place of a hittable one.
+            let mut other = ids.clone();
+            other[a] = 2;
+            assert!(PrimitiveBvh::from_parts(&prims, &nodes, &other).is_err());
+        }
+    }
+
+    /// Lists of equal length that differ in one to four entries always
+    /// have different sums (a must-pass of the exactness claim; the
+    /// control: a reordering keeps them).
+    #[test]
+    fn id_sums_tell_lists_apart_that_differ_in_up_to_four_entries() {
+        use super::IdSums;
+        let mut rng = Pcg32::new(3, 5);
+        let base: Vec<u32> = (0..1000).collect();
+        let sums = IdSums::of(base.iter().copied());
+        for trial in 0..20_000 {
+            let mut ids = base.clone();
+            let changes = 1 + trial % 4;
+            for _ in 0..changes {
+                let i = (rng.next_u32() % 1000) as usize;
+                ids[i] = rng.next_u32() % (1 << 27);
+            }
+            let mut sorted = ids.clone();
+            sorted.sort_unstable();
+            if sorted != base {
+                assert_ne!(IdSums::of(ids.iter().copied()), sums, "trial {trial}");
+            }
+        }
+        let mut shuffled = base.clone();
+        shuffled.reverse();
+        shuffled.swap(3, 700);
+        assert_eq!(IdSums::of(shuffled.iter().copied()), sums);
     }
 }
