@@ -106,46 +106,55 @@ fn first_values<S: Sampler>(s: &mut S) -> [u32; 5] {
     [p.x, p.y, a, b.x, b.y].map(f32::to_bits)
 }
 
+/// The first values ([`first_values`]: pixel (12, 34), sample 5, 16 spp,
+/// seed 2026) of each sampler kind; ZSobol' at 320 × 180, and `zsobol_wide`
+/// at 256 spp over 2²⁰ × 2²⁰ (a 48-bit Morton index: the permuted index
+/// reaches the columns of Sobol' dimension 1 beyond bit 32).
+const SAMPLER_LOCK: [(&str, [u32; 5]); 7] = [
+    (
+        "independent",
+        [0x3eca1a4a, 0x3f3bb1f6, 0x3efbcbbc, 0x3ed05536, 0x3f7a8381],
+    ),
+    (
+        "grid",
+        [0x3ec00000, 0x3ec00000, 0x3f180000, 0x3f600000, 0x3e000000],
+    ),
+    (
+        "stratified",
+        [0x3f1ca665, 0x3eac78e2, 0x3f114207, 0x3f5532c9, 0x3cfa8500],
+    ),
+    (
+        "sobol",
+        [0x3e74e798, 0x3cbf9640, 0x3ea31c00, 0x3f4374b6, 0x3f4153ae],
+    ),
+    (
+        "halton",
+        [0x3f0dc8a3, 0x3f328641, 0x3e95ab0f, 0x3f66ef64, 0x3e79350f],
+    ),
+    (
+        "zsobol",
+        [0x3e92464c, 0x3d41ca40, 0x3f2971f7, 0x3f48054f, 0x3e94588a],
+    ),
+    (
+        "zsobol_wide",
+        [0x3ed76230, 0x3f498e8b, 0x3f1210fb, 0x3f48fd44, 0x3eadc392],
+    ),
+];
+
 #[test]
 fn sampler_lock() {
-    let independent = [0x3eca1a4a, 0x3f3bb1f6, 0x3efbcbbc, 0x3ed05536, 0x3f7a8381];
-    let grid = [0x3ec00000, 0x3ec00000, 0x3f180000, 0x3f600000, 0x3e000000];
-    let stratified = [0x3f1ca665, 0x3eac78e2, 0x3f114207, 0x3f5532c9, 0x3cfa8500];
-    assert_eq!(
+    let got = [
         first_values(&mut Independent::new(16, 2026).unwrap()),
-        independent,
-        "{CHANGED}"
-    );
-    assert_eq!(
         first_values(&mut UniformGrid::new(16, 2026).unwrap()),
-        grid,
-        "{CHANGED}"
-    );
-    assert_eq!(
         first_values(&mut Stratified::new(16, 2026).unwrap()),
-        stratified,
-        "{CHANGED}"
-    );
-    let sobol = [0x3e74e798, 0x3cbf9640, 0x3ea31c00, 0x3f4374b6, 0x3f4153ae];
-    assert_eq!(
         first_values(&mut strata::Sobol::new(16, 2026).unwrap()),
-        sobol,
-        "{CHANGED}"
-    );
-    let halton = [0x3f0dc8a3, 0x3f328641, 0x3e95ab0f, 0x3f66ef64, 0x3e79350f];
-    assert_eq!(
         first_values(&mut strata::Halton::new(16, 2026).unwrap()),
-        halton,
-        "{CHANGED}"
-    );
-    let zsobol = [0x3e92464c, 0x3d41ca40, 0x3f2971f7, 0x3f48054f, 0x3e94588a];
-    let mut z = strata::ZSobol::new(16, 2026, UVec2::new(320, 180)).unwrap();
-    assert_eq!(first_values(&mut z), zsobol, "{CHANGED}");
-    // A 48-bit Morton index: the permuted index reaches the columns of
-    // Sobol' dimension 1 beyond bit 32.
-    let wide = [0x3ed76230, 0x3f498e8b, 0x3f1210fb, 0x3f48fd44, 0x3eadc392];
-    let mut z = strata::ZSobol::new(256, 2026, UVec2::splat(1 << 20)).unwrap();
-    assert_eq!(first_values(&mut z), wide, "{CHANGED}");
+        first_values(&mut strata::ZSobol::new(16, 2026, UVec2::new(320, 180)).unwrap()),
+        first_values(&mut strata::ZSobol::new(256, 2026, UVec2::splat(1 << 20)).unwrap()),
+    ];
+    for ((name, want), got) in SAMPLER_LOCK.iter().zip(got) {
+        assert_eq!(&got, want, "{name}: {CHANGED}");
+    }
 }
 
 /// FNV-1a over 32-bit words. Its own copy: this test belongs to the core
@@ -178,6 +187,19 @@ fn v3(w: Vec3) -> [u32; 3] {
 fn v2(w: Vec2) -> [u32; 2] {
     w.to_array().map(f32::to_bits)
 }
+
+/// FNV-1a of every mapping's words on [`grid`], as [`mapping_lock`]
+/// makes them.
+const MAPPING_LOCK: [(&str, u64); 8] = [
+    ("uniform_sphere", 0xd074475691ec7496),
+    ("uniform_hemisphere", 0x100d822a729b54f8),
+    ("cosine_hemisphere", 0x4d24764520a9d6fe),
+    ("concentric_disk", 0xa336b2ca1704290a),
+    ("polar_disk", 0xae81f3436e32bd83),
+    ("uniform_cone", 0x7da39f65cf5ea3e7),
+    ("onb", 0x13d8b714175f56f0),
+    ("uniform_ball", 0x09e7cb26c6da1dfc),
+];
 
 #[test]
 fn mapping_lock() {
@@ -253,18 +275,8 @@ fn mapping_lock() {
         ]
         .concat()
     });
-    let lock: [(&str, u64); 8] = [
-        ("uniform_sphere", 0xd074475691ec7496),
-        ("uniform_hemisphere", 0x100d822a729b54f8),
-        ("cosine_hemisphere", 0x4d24764520a9d6fe),
-        ("concentric_disk", 0xa336b2ca1704290a),
-        ("polar_disk", 0xae81f3436e32bd83),
-        ("uniform_cone", 0x7da39f65cf5ea3e7),
-        ("onb", 0x13d8b714175f56f0),
-        ("uniform_ball", 0x09e7cb26c6da1dfc),
-    ];
     let mut failures = vec![];
-    for ((name, w), (lock_name, want)) in words.into_iter().zip(lock) {
+    for ((name, w), &(lock_name, want)) in words.into_iter().zip(&MAPPING_LOCK) {
         assert_eq!(name, lock_name);
         let got = fnv(w);
         if got != want {
@@ -351,4 +363,42 @@ fn tracing_lock() {
     }
     let lock = [0x9e8f9e61958e4b51_u64, 0xaa1ad740e725e168];
     assert_eq!(digests, lock, "hits changed: {digests:#018x?}\n{CHANGED}");
+}
+
+/// The locks above as the data file other languages read
+/// (`core/tests/data/locks.json`: the C tests, and later Python and the
+/// browser), so no constant is copied by hand. Run with `STRATA_BLESS=1`
+/// to write it after a deliberate change.
+fn locks_json() -> String {
+    let mut out = String::from(
+        "{\n  \"about\": \"Strata's value locks, written by core/tests/locks.rs (locks_file_is_current); see that file for how each value is made.\",\n",
+    );
+    out += "  \"sampler_first_values\": {\n";
+    for (k, (name, v)) in SAMPLER_LOCK.iter().enumerate() {
+        let words: Vec<String> = v.iter().map(|w| w.to_string()).collect();
+        let comma = if k + 1 < SAMPLER_LOCK.len() { "," } else { "" };
+        out += &format!("    \"{name}\": [{}]{comma}\n", words.join(", "));
+    }
+    out += "  },\n  \"mapping_fnv\": {\n";
+    for (k, (name, h)) in MAPPING_LOCK.iter().enumerate() {
+        let comma = if k + 1 < MAPPING_LOCK.len() { "," } else { "" };
+        out += &format!("    \"{name}\": \"{h:#018x}\"{comma}\n");
+    }
+    out += "  }\n}\n";
+    out
+}
+
+#[test]
+fn locks_file_is_current() {
+    let want = locks_json();
+    #[cfg(not(target_family = "wasm"))]
+    if std::env::var_os("STRATA_BLESS").is_some() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/locks.json");
+        std::fs::write(path, &want).unwrap();
+    }
+    assert_eq!(
+        include_str!("data/locks.json"),
+        want,
+        "core/tests/data/locks.json differs from the locks: run `STRATA_BLESS=1 cargo test -p strata --test locks`"
+    );
 }

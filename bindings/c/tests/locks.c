@@ -1,0 +1,383 @@
+/* The C API against the core's value locks (core/tests/data/locks.json),
+ * bit for bit, and against bad input: every call with a null pointer, a
+ * short buffer, an unknown kind or an out-of-range value returns its
+ * error code and a message, never a crash.
+ *
+ * usage: locks LOCKS_JSON EXPECTED_SIMD_LEVEL
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "strata.h"
+
+static int failures = 0;
+
+#define CHECK(cond, ...)                                                   \
+  do {                                                                     \
+    if (!(cond)) {                                                         \
+      fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                 \
+      fprintf(stderr, __VA_ARGS__);                                        \
+      fprintf(stderr, "\n");                                               \
+      failures++;                                                          \
+    }                                                                      \
+  } while (0)
+
+/* ---------------------------------------------------------- the data file */
+
+static char *read_file(const char *path) {
+  FILE *f = fopen(path, "rb");
+  long n;
+  char *text;
+  if (!f) return NULL;
+  if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
+    fclose(f);
+    return NULL;
+  }
+  text = malloc((size_t)n + 1);
+  if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
+    free(text);
+    text = NULL;
+  }
+  if (text) text[n] = '\0';
+  fclose(f);
+  return text;
+}
+
+/* The text after `"key":` in the file (keys are unique in it). */
+static const char *after_key(const char *json, const char *key) {
+  char quoted[128];
+  const char *at;
+  snprintf(quoted, sizeof quoted, "\"%s\":", key);
+  at = strstr(json, quoted);
+  return at ? at + strlen(quoted) : NULL;
+}
+
+/* `n` unsigned numbers of the array at `key`. */
+static int read_u32s(const char *json, const char *key, uint32_t *out, int n) {
+  const char *p = after_key(json, key);
+  int i;
+  if (!p || !(p = strchr(p, '['))) return 0;
+  p++;
+  for (i = 0; i < n; i++) {
+    char *end;
+    unsigned long v = strtoul(p, &end, 10);
+    if (end == p) return 0;
+    out[i] = (uint32_t)v;
+    p = end;
+    while (*p == ',' || *p == ' ') p++;
+  }
+  return 1;
+}
+
+/* The hexadecimal string at `key`. */
+static int read_hex(const char *json, const char *key, uint64_t *out) {
+  const char *p = after_key(json, key);
+  if (!p || !(p = strchr(p, '"'))) return 0;
+  *out = strtoull(p + 1, NULL, 16);
+  return 1;
+}
+
+/* ---------------------------------------------------------- bits */
+
+static uint32_t bits(float f) {
+  uint32_t u;
+  memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+/* FNV-1a over 32-bit words, little-endian bytes: the locks' hash. */
+typedef struct {
+  uint64_t h;
+} Fnv;
+
+static void fnv_word(Fnv *f, uint32_t w) {
+  int k;
+  for (k = 0; k < 4; k++) {
+    f->h ^= (w >> (8 * k)) & 0xff;
+    f->h *= 0x100000001b3ull;
+  }
+}
+
+static void fnv_floats(Fnv *f, const float *v, size_t n) {
+  size_t i;
+  for (i = 0; i < n; i++) fnv_word(f, bits(v[i]));
+}
+
+/* ---------------------------------------------------------- samplers */
+
+static void sampler_locks(const char *json) {
+  struct {
+    const char *name;
+    uint32_t kind, spp, width, height;
+  } cases[] = {
+      {"independent", STRATA_SAMPLER_KIND_INDEPENDENT, 16, 0, 0},
+      {"grid", STRATA_SAMPLER_KIND_GRID, 16, 0, 0},
+      {"stratified", STRATA_SAMPLER_KIND_STRATIFIED, 16, 0, 0},
+      {"sobol", STRATA_SAMPLER_KIND_SOBOL, 16, 0, 0},
+      {"halton", STRATA_SAMPLER_KIND_HALTON, 16, 0, 0},
+      {"zsobol", STRATA_SAMPLER_KIND_ZSOBOL, 16, 320, 180},
+      {"zsobol_wide", STRATA_SAMPLER_KIND_ZSOBOL, 256, 1u << 20, 1u << 20},
+  };
+  size_t c;
+  for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    StrataSampler *s = NULL;
+    uint32_t want[5], got[5], spp = 0;
+    float p[2], a, b[2];
+    int k;
+    CHECK(read_u32s(json, cases[c].name, want, 5), "%s: not in the locks file", cases[c].name);
+    CHECK(strata_sampler_new(cases[c].kind, cases[c].spp, 2026, cases[c].width, cases[c].height, &s) ==
+              STRATA_STATUS_OK,
+          "%s: %s", cases[c].name, strata_last_error());
+    if (!s) continue;
+    CHECK(strata_sampler_spp(s, &spp) == STRATA_STATUS_OK && spp == cases[c].spp, "%s: spp", cases[c].name);
+    /* The lock's order: position, one 1-D, one 2-D. */
+    strata_sampler_start(s, 12, 34, 5);
+    strata_sampler_pixel_2d(s, p, 2);
+    strata_sampler_next_1d(s, &a, 1);
+    strata_sampler_next_2d(s, b, 2);
+    got[0] = bits(p[0]);
+    got[1] = bits(p[1]);
+    got[2] = bits(a);
+    got[3] = bits(b[0]);
+    got[4] = bits(b[1]);
+    for (k = 0; k < 5; k++)
+      CHECK(got[k] == want[k], "%s value %d: %08x, locked %08x", cases[c].name, k, got[k], want[k]);
+    {
+      /* A batch equals the single calls: rows of 7 (position, two 2-D,
+       * one 1-D) for 3 pixel samples. */
+      uint32_t pixels[6] = {12, 34, 0, 0, 319, 179};
+      uint32_t indices[3] = {5, 0, 15};
+      float rows[21], one[7];
+      int i;
+      CHECK(strata_sampler_fill(s, pixels, 6, indices, 3, 7, rows, 21) == STRATA_STATUS_OK, "%s fill: %s",
+            cases[c].name, strata_last_error());
+      for (i = 0; i < 3; i++) {
+        strata_sampler_start(s, pixels[2 * i], pixels[2 * i + 1], indices[i]);
+        strata_sampler_pixel_2d(s, one, 2);
+        strata_sampler_next_2d(s, one + 2, 2);
+        strata_sampler_next_2d(s, one + 4, 2);
+        strata_sampler_next_1d(s, one + 6, 1);
+        for (k = 0; k < 7; k++)
+          CHECK(bits(rows[7 * i + k]) == bits(one[k]), "%s fill row %d dim %d", cases[c].name, i, k);
+      }
+    }
+    strata_sampler_free(s);
+  }
+}
+
+/* ---------------------------------------------------------- mappings */
+
+#define GRID 97
+
+/* The locks' 97 x 97 grid over [0, 1)^2, edges included: t(96) is the
+ * largest float below 1. */
+static void grid(float *u) {
+  int i, j;
+  for (i = 0; i < GRID; i++)
+    for (j = 0; j < GRID; j++) {
+      u[2 * (i * GRID + j)] = i == GRID - 1 ? 0x1.fffffep-1f : (float)i / 96.0f;
+      u[2 * (i * GRID + j) + 1] = j == GRID - 1 ? 0x1.fffffep-1f : (float)j / 96.0f;
+    }
+}
+
+enum { N = GRID * GRID };
+
+static float u2[2 * N], u3[3 * N], pts[3 * N], back[3 * N], pdf[N], pts2[3 * N], back2[3 * N];
+
+static void ok(StrataStatus s, const char *what) {
+  CHECK(s == STRATA_STATUS_OK, "%s: %s", what, strata_last_error());
+}
+
+/* sample, then invert and pdf, hashed per point: the directions' lock. */
+static uint64_t direction_hash(uint32_t kind, int with_pdf) {
+  Fnv f = {0xcbf29ce484222325ull};
+  int i;
+  ok(strata_mapping_sample(kind, 0.0f, u2, 2 * N, pts, 3 * N), "sample");
+  ok(strata_mapping_invert(kind, 0.0f, pts, 3 * N, back, 2 * N), "invert");
+  ok(strata_mapping_pdf(kind, 0.0f, pts, 3 * N, pdf, N), "pdf");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts + 3 * i, 3);
+    fnv_floats(&f, back + 2 * i, 2);
+    if (with_pdf) fnv_floats(&f, pdf + i, 1);
+  }
+  return f.h;
+}
+
+static uint64_t disk_hash(uint32_t kind) {
+  Fnv f = {0xcbf29ce484222325ull};
+  int i;
+  ok(strata_mapping_sample(kind, 0.0f, u2, 2 * N, pts, 2 * N), "sample");
+  ok(strata_mapping_invert(kind, 0.0f, pts, 2 * N, back, 2 * N), "invert");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts + 2 * i, 2);
+    fnv_floats(&f, back + 2 * i, 2);
+  }
+  return f.h;
+}
+
+static uint64_t cone_hash(void) {
+  Fnv f = {0xcbf29ce484222325ull};
+  int i;
+  ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_CONE, 0.3f, u2, 2 * N, pts, 3 * N), "cone");
+  ok(strata_mapping_invert(STRATA_MAPPING_UNIFORM_CONE, 0.3f, pts, 3 * N, back, 2 * N), "cone inverse");
+  ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_CONE_SIN2, 1e-7f, u2, 2 * N, pts2, 3 * N), "tiny cone");
+  ok(strata_mapping_invert(STRATA_MAPPING_UNIFORM_CONE_SIN2, 1e-7f, pts2, 3 * N, back2, 2 * N), "tiny inverse");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts + 3 * i, 3);
+    fnv_floats(&f, back + 2 * i, 2);
+    fnv_floats(&f, pts2 + 3 * i, 3);
+    fnv_floats(&f, back2 + 2 * i, 2);
+  }
+  return f.h;
+}
+
+static uint64_t onb_hash(void) {
+  Fnv f = {0xcbf29ce484222325ull};
+  int i;
+  float *dirs = back; /* reused: 3 N floats */
+  for (i = 0; i < N; i++) {
+    dirs[3 * i] = 0.3f;
+    dirs[3 * i + 1] = -0.2f;
+    dirs[3 * i + 2] = 0.9f;
+  }
+  ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u2, 2 * N, pts, 3 * N), "normals");
+  ok(strata_onb_to_world(STRATA_ONB_DUFF, pts, 3 * N, dirs, 3 * N, pts2, 3 * N), "onb");
+  ok(strata_onb_to_world(STRATA_ONB_AXIS_SWITCH, pts, 3 * N, dirs, 3 * N, back2, 3 * N), "axis switch");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts2 + 3 * i, 3);
+    fnv_floats(&f, back2 + 3 * i, 3);
+  }
+  return f.h;
+}
+
+static uint64_t ball_hash(void) {
+  Fnv f = {0xcbf29ce484222325ull};
+  int i;
+  for (i = 0; i < N; i++) {
+    u3[3 * i] = u2[2 * i];
+    u3[3 * i + 1] = u2[2 * i + 1];
+    /* The third coordinate runs along the grid's diagonal. */
+    u3[3 * i + 2] = (u2[2 * i] + u2[2 * i + 1]) * 0.5f;
+  }
+  ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_BALL, 0.0f, u3, 3 * N, pts, 3 * N), "ball");
+  ok(strata_mapping_invert(STRATA_MAPPING_UNIFORM_BALL, 0.0f, pts, 3 * N, back, 3 * N), "ball inverse");
+  ok(strata_mapping_pdf(STRATA_MAPPING_UNIFORM_BALL, 0.0f, pts, 3 * N, pdf, N), "ball pdf");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts + 3 * i, 3);
+    fnv_floats(&f, back + 3 * i, 3);
+    fnv_floats(&f, pdf + i, 1);
+  }
+  return f.h;
+}
+
+static void mapping_locks(const char *json) {
+  struct {
+    const char *name;
+    uint64_t got;
+  } cases[8];
+  int c;
+  grid(u2);
+  cases[0].name = "uniform_sphere";
+  cases[0].got = direction_hash(STRATA_MAPPING_UNIFORM_SPHERE, 1);
+  cases[1].name = "uniform_hemisphere";
+  cases[1].got = direction_hash(STRATA_MAPPING_UNIFORM_HEMISPHERE, 1);
+  cases[2].name = "cosine_hemisphere";
+  cases[2].got = direction_hash(STRATA_MAPPING_COSINE_HEMISPHERE, 1);
+  cases[3].name = "concentric_disk";
+  cases[3].got = disk_hash(STRATA_MAPPING_CONCENTRIC_DISK);
+  cases[4].name = "polar_disk";
+  cases[4].got = disk_hash(STRATA_MAPPING_POLAR_DISK);
+  cases[5].name = "uniform_cone";
+  cases[5].got = cone_hash();
+  cases[6].name = "onb";
+  cases[6].got = onb_hash();
+  cases[7].name = "uniform_ball";
+  cases[7].got = ball_hash();
+  for (c = 0; c < 8; c++) {
+    uint64_t want = 0;
+    CHECK(read_hex(json, cases[c].name, &want), "%s: not in the locks file", cases[c].name);
+    CHECK(cases[c].got == want, "%s: %016llx, locked %016llx", cases[c].name,
+          (unsigned long long)cases[c].got, (unsigned long long)want);
+  }
+}
+
+/* ---------------------------------------------------------- bad input */
+
+static void expect(StrataStatus got, StrataStatus want, const char *what) {
+  const char *message = strata_last_error();
+  CHECK(got == want, "%s: status %d, expected %d", what, (int)got, (int)want);
+  CHECK(message && message[0] != '\0', "%s: no message", what);
+}
+
+static void bad_input(void) {
+  StrataSampler *s = NULL;
+  float out[8], u[4] = {0.5f, 0.5f, 0.25f, 0.75f};
+  float nan_normal[3] = {0.0f, 0.0f, 0.0f}, dir[3] = {1.0f, 0.0f, 0.0f};
+  uint32_t pixels[2] = {1, 2}, idx[1] = {0};
+  nan_normal[2] = strtof("nan", NULL);
+
+  expect(strata_sampler_new(99, 16, 1, 0, 0, &s), STRATA_STATUS_INVALID_ARGUMENT, "unknown sampler kind");
+  expect(strata_sampler_new(STRATA_SAMPLER_KIND_SOBOL, 0, 1, 0, 0, &s), STRATA_STATUS_INVALID_ARGUMENT,
+         "0 spp");
+  expect(strata_sampler_new(STRATA_SAMPLER_KIND_ZSOBOL, 16, 1, 0, 10, &s), STRATA_STATUS_INVALID_ARGUMENT,
+         "zsobol without pixels");
+  expect(strata_sampler_new(STRATA_SAMPLER_KIND_SOBOL, 16, 1, 0, 0, NULL), STRATA_STATUS_NULL_POINTER,
+         "null out");
+  expect(strata_sampler_start(NULL, 0, 0, 0), STRATA_STATUS_NULL_POINTER, "null sampler");
+  expect(strata_sampler_next_2d(NULL, out, 2), STRATA_STATUS_NULL_POINTER, "null sampler 2d");
+  CHECK(strata_sampler_new(STRATA_SAMPLER_KIND_SOBOL, 16, 1, 0, 0, &s) == STRATA_STATUS_OK, "sobol");
+  expect(strata_sampler_next_2d(s, out, 1), STRATA_STATUS_SHORT_BUFFER, "2d into 1 float");
+  expect(strata_sampler_next_1d(s, NULL, 1), STRATA_STATUS_NULL_POINTER, "1d into null");
+  expect(strata_sampler_fill(s, pixels, 2, idx, 1, 9, out, 8), STRATA_STATUS_SHORT_BUFFER, "fill: short out");
+  expect(strata_sampler_fill(s, pixels, 1, idx, 1, 2, out, 8), STRATA_STATUS_SHORT_BUFFER,
+         "fill: short pixels");
+  expect(strata_sampler_fill(s, NULL, 2, idx, 1, 2, out, 8), STRATA_STATUS_NULL_POINTER, "fill: null pixels");
+  CHECK(strata_sampler_fill(s, NULL, 0, NULL, 0, 4, NULL, 0) == STRATA_STATUS_OK, "fill of nothing");
+  strata_sampler_free(s);
+  strata_sampler_free(NULL);
+
+  expect(strata_mapping_sample(42, 0.0f, u, 4, out, 8), STRATA_STATUS_INVALID_ARGUMENT, "unknown mapping");
+  expect(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 3, out, 8), STRATA_STATUS_SHORT_BUFFER,
+         "half a row");
+  expect(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 4, out, 5), STRATA_STATUS_SHORT_BUFFER,
+         "short points");
+  expect(strata_mapping_pdf(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, NULL, 3, out, 8), STRATA_STATUS_NULL_POINTER,
+         "null points");
+  expect(strata_onb_to_world(7, dir, 3, dir, 3, out, 3), STRATA_STATUS_INVALID_ARGUMENT, "unknown basis");
+  expect(strata_onb_to_world(STRATA_ONB_DUFF, nan_normal, 3, dir, 3, out, 3), STRATA_STATUS_INVALID_ARGUMENT,
+         "NaN normal");
+  expect(strata_onb_to_world(STRATA_ONB_DUFF, dir, 3, dir, 0, out, 3), STRATA_STATUS_SHORT_BUFFER,
+         "no directions");
+  /* A NaN sample is not an error: its point is NaN, as in Rust. */
+  u[0] = strtof("nan", NULL);
+  CHECK(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 2, out, 3) == STRATA_STATUS_OK, "NaN u");
+}
+
+int main(int argc, char **argv) {
+  char *json;
+  const char *level = strata_simd_level();
+  if (argc != 3) {
+    fprintf(stderr, "usage: %s LOCKS_JSON EXPECTED_SIMD_LEVEL\n", argv[0]);
+    return 2;
+  }
+  json = read_file(argv[1]);
+  if (!json) {
+    fprintf(stderr, "cannot read %s\n", argv[1]);
+    return 2;
+  }
+  printf("strata %s, output revision %u, simd %s\n", strata_version(), strata_output_revision(), level);
+  CHECK(strcmp(level, argv[2]) == 0, "simd level %s, expected %s", level, argv[2]);
+  CHECK(strata_output_revision() > 0, "output revision");
+  sampler_locks(json);
+  mapping_locks(json);
+  bad_input();
+  free(json);
+  if (failures) {
+    fprintf(stderr, "%d failures\n", failures);
+    return 1;
+  }
+  printf("all C checks passed\n");
+  return 0;
+}
