@@ -42,14 +42,14 @@ if ! diff -u bindings/c/include/strata.h "$out/strata.h"; then
   exit 1
 fi
 
-cflags=(-std=c99 -O2 -Wall -Wextra -Werror -pedantic -ffp-contract=off -I bindings/c/include)
+cflags=(-std=c11 -O2 -Wall -Wextra -Werror -pedantic -ffp-contract=off -I bindings/c/include)
 echo "== C tests, static library"
 gcc "${cflags[@]}" bindings/c/tests/locks.c "$lib/libstrata.a" \
   -lgcc_s -lutil -lrt -lpthread -lm -ldl -o "$out/locks_static"
 "$out/locks_static" core/tests/data/locks.json "$level"
 
 echo "== C tests, shared library, under memcheck"
-gcc "${cflags[@]}" bindings/c/tests/locks.c -L"$lib" -lstrata -Wl,-rpath,"$lib" -o "$out/locks_shared"
+gcc "${cflags[@]}" bindings/c/tests/locks.c -L"$lib" -lstrata -Wl,-rpath,"$lib" -lm -o "$out/locks_shared"
 valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
   "$out/locks_shared" core/tests/data/locks.json "$level"
 echo "C API: all tests passed"

@@ -317,6 +317,13 @@ fn random_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Ray> {
         .collect()
 }
 
+/// FNV-1a of the closest and any hits of 4096 seeded rays through each
+/// reference layout, as [`tracing_lock`] makes them.
+const TRACING_LOCK: [(&str, u64); 2] = [
+    ("course", 0x9e8f9e61958e4b51),
+    ("cover", 0xaa1ad740e725e168),
+];
+
 #[test]
 fn tracing_lock() {
     let layouts = [
@@ -361,7 +368,7 @@ fn tracing_lock() {
         }
         digests.push(fnv(words));
     }
-    let lock = [0x9e8f9e61958e4b51_u64, 0xaa1ad740e725e168];
+    let lock = TRACING_LOCK.map(|(_, h)| h);
     assert_eq!(digests, lock, "hits changed: {digests:#018x?}\n{CHANGED}");
 }
 
@@ -373,6 +380,9 @@ fn locks_json() -> String {
     let mut out = String::from(
         "{\n  \"about\": \"Strata's value locks, written by core/tests/locks.rs (locks_file_is_current); see that file for how each value is made.\",\n",
     );
+    // The stream of the tracing lock's ray generator (PCG32 with this
+    // stream and seed 3), which other languages rebuild.
+    out += &format!("  \"pcg_stream\": \"{STREAM:#018x}\",\n");
     out += "  \"sampler_first_values\": {\n";
     for (k, (name, v)) in SAMPLER_LOCK.iter().enumerate() {
         let words: Vec<String> = v.iter().map(|w| w.to_string()).collect();
@@ -382,6 +392,11 @@ fn locks_json() -> String {
     out += "  },\n  \"mapping_fnv\": {\n";
     for (k, (name, h)) in MAPPING_LOCK.iter().enumerate() {
         let comma = if k + 1 < MAPPING_LOCK.len() { "," } else { "" };
+        out += &format!("    \"{name}\": \"{h:#018x}\"{comma}\n");
+    }
+    out += "  },\n  \"tracing_fnv\": {\n";
+    for (k, (name, h)) in TRACING_LOCK.iter().enumerate() {
+        let comma = if k + 1 < TRACING_LOCK.len() { "," } else { "" };
         out += &format!("    \"{name}\": \"{h:#018x}\"{comma}\n");
     }
     out += "  }\n}\n";

@@ -128,9 +128,83 @@ typedef enum StrataOnb {
 } StrataOnb;
 
 /**
+ * A BVH over spheres, built into caller storage (opaque). Queries from
+ * many threads at once are safe; the storage must outlive it unchanged.
+ */
+typedef struct StrataBvh StrataBvh;
+
+/**
+ * A BVH over the caller's primitives (opaque).
+ */
+typedef struct StrataPrimitiveBvh StrataPrimitiveBvh;
+
+/**
  * A pixel sampler (opaque). One thread at a time.
  */
 typedef struct StrataSampler StrataSampler;
+
+/**
+ * A ray: `origin + t · dir` for `t` in `(t_min, t_max)`. `dir` must be
+ * unit length (`|d·d − 1| ≤ 16 ε`, which a normalised vector meets),
+ * `origin` finite, and neither bound NaN; calls refuse other rays.
+ */
+typedef struct StrataRay {
+  /**
+   * The origin.
+   */
+  float origin[3];
+  /**
+   * The unit direction.
+   */
+  float dir[3];
+  /**
+   * The interval's lower end (0 for a camera ray).
+   */
+  float t_min;
+  /**
+   * The interval's upper end (`INFINITY` for none).
+   */
+  float t_max;
+} StrataRay;
+
+/**
+ * A closest hit: `id` is the sphere's or primitive's index,
+ * `UINT32_MAX` for a miss (then `t` is `INFINITY`).
+ */
+typedef struct StrataHit {
+  /**
+   * The ray parameter of the hit.
+   */
+  float t;
+  /**
+   * What was hit, or `UINT32_MAX`.
+   */
+  uint32_t id;
+} StrataHit;
+
+/**
+ * A box: `min` to `max`; empty (`min > max` on an axis) for a primitive
+ * that can never be hit.
+ */
+typedef struct StrataAabb {
+  /**
+   * The least corner.
+   */
+  float min[3];
+  /**
+   * The greatest corner.
+   */
+  float max[3];
+} StrataAabb;
+
+/**
+ * The caller's intersection routine: whether `ray` hits primitive
+ * `index` in `(t_min, t_max)`, and if so its `t` in `*t`. `user` is the
+ * pointer given to the build. It must be a pure function of its
+ * arguments while the tree is used, and may be called from any thread
+ * that queries the tree.
+ */
+typedef bool (*StrataIntersectFn)(void *user, uint32_t index, const struct StrataRay *ray, float *t);
 
 #ifdef __cplusplus
 extern "C" {
@@ -340,6 +414,141 @@ enum StrataStatus strata_onb_to_local(uint32_t kind,
                                       size_t dirs_len,
                                       float *out,
                                       size_t out_len);
+
+/**
+ * The bytes of caller storage a BVH over `n` spheres needs, into
+ * `*bytes`; the storage must be aligned to 64 bytes (C11
+ * `aligned_alloc(64, bytes rounded up to 64)`, or `posix_memalign`).
+ *
+ * # Safety
+ * `bytes` null (refused) or valid for one `size_t`.
+ */
+enum StrataStatus strata_bvh_storage_size(size_t n, size_t *bytes);
+
+/**
+ * Builds a BVH over the spheres of `spheres` (rows of `x, y, z,
+ * radius`) into `storage` (of `storage_bytes`, at least
+ * [`strata_bvh_storage_size`], aligned to 64), and returns its handle
+ * in `*out`. The spheres are copied into the storage: the array may go
+ * once this returns; the storage may not until [`strata_bvh_free`].
+ * Closest hits are the brute-force loop's over the spheres, bit for bit,
+ * ties to the lowest index.
+ *
+ * # Safety
+ * `spheres` null (refused unless its length is 0) or valid for
+ * `spheres_len` floats; `storage` valid for `storage_bytes` bytes and
+ * untouched by the caller until the handle is freed; `out` null
+ * (refused) or valid for one pointer.
+ */
+enum StrataStatus strata_bvh_build(const float *spheres,
+                                   size_t spheres_len,
+                                   void *storage,
+                                   size_t storage_bytes,
+                                   struct StrataBvh **out);
+
+/**
+ * Frees a BVH handle (not its storage, which is the caller's); null is
+ * ignored.
+ *
+ * # Safety
+ * `bvh` null or a handle from [`strata_bvh_build`] not freed before.
+ */
+void strata_bvh_free(struct StrataBvh *bvh);
+
+/**
+ * The closest hit of each of the `n` rays into `hits[i]`.
+ * Rays are checked (see [`StrataRay`]); on an error the hits are
+ * unspecified.
+ *
+ * # Safety
+ * `bvh` a live handle; `rays` valid for `n` rays, `hits` for
+ * `hits_len` hits (null refused unless the length is 0).
+ */
+enum StrataStatus strata_bvh_closest_hit(const struct StrataBvh *bvh,
+                                         const struct StrataRay *rays,
+                                         size_t n,
+                                         struct StrataHit *hits,
+                                         size_t hits_len);
+
+/**
+ * Whether each of the `n` rays hits anything (`1`) or not (`0`), into
+ * `occluded[i]`.
+ *
+ * # Safety
+ * As [`strata_bvh_closest_hit`].
+ */
+enum StrataStatus strata_bvh_any_hit(const struct StrataBvh *bvh,
+                                     const struct StrataRay *rays,
+                                     size_t n,
+                                     uint8_t *occluded,
+                                     size_t occluded_len);
+
+/**
+ * The bytes of caller storage a BVH over `n` primitives needs (aligned
+ * to 64, as for spheres).
+ *
+ * # Safety
+ * `bytes` null (refused) or valid for one `size_t`.
+ */
+enum StrataStatus strata_primitive_bvh_storage_size(size_t n, size_t *bytes);
+
+/**
+ * Builds a BVH over `n` primitives with boxes `bounds[0..n]` whose hits
+ * `intersect` reports, into `storage` (at least
+ * [`strata_primitive_bvh_storage_size`], aligned to 64). The boxes are
+ * not copied: `bounds`, `user`'s data and the storage must outlive the
+ * handle unchanged. A hit the routine reports outside its primitive's
+ * box (beyond rounding: the core's `Aabb::holds_hit`) is dropped, so
+ * queries return exactly what a loop over the routine (dropping the
+ * same hits) returns, ties to the lowest index.
+ *
+ * # Safety
+ * `bounds` valid for `n` boxes; `intersect` a routine with the contract
+ * of [`StrataIntersectFn`]; `storage` valid for `storage_bytes` bytes;
+ * `out` valid for one pointer (nulls refused).
+ */
+enum StrataStatus strata_primitive_bvh_build(const struct StrataAabb *bounds,
+                                             size_t n,
+                                             StrataIntersectFn intersect,
+                                             void *user,
+                                             void *storage,
+                                             size_t storage_bytes,
+                                             struct StrataPrimitiveBvh **out);
+
+/**
+ * Frees a primitive BVH handle (not the storage, the boxes or `user`);
+ * null is ignored.
+ *
+ * # Safety
+ * `bvh` null or a handle from [`strata_primitive_bvh_build`] not freed
+ * before.
+ */
+void strata_primitive_bvh_free(struct StrataPrimitiveBvh *bvh);
+
+/**
+ * The closest hit of each of the `n` rays among the primitives, into
+ * `hits[i]` (`id` the primitive's index).
+ *
+ * # Safety
+ * As [`strata_bvh_closest_hit`].
+ */
+enum StrataStatus strata_primitive_bvh_closest_hit(const struct StrataPrimitiveBvh *bvh,
+                                                   const struct StrataRay *rays,
+                                                   size_t n,
+                                                   struct StrataHit *hits,
+                                                   size_t hits_len);
+
+/**
+ * Whether each of the `n` rays hits any primitive, into `occluded[i]`.
+ *
+ * # Safety
+ * As [`strata_bvh_closest_hit`].
+ */
+enum StrataStatus strata_primitive_bvh_any_hit(const struct StrataPrimitiveBvh *bvh,
+                                               const struct StrataRay *rays,
+                                               size_t n,
+                                               uint8_t *occluded,
+                                               size_t occluded_len);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -24,12 +24,15 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 
 use std::cell::RefCell;
-use std::ffi::{CString, c_char};
+use std::ffi::{CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use strata_core::glam::{UVec2, Vec2, Vec3};
 use strata_core::mapping::{self, Cone};
-use strata_core::trace::{Ray, SimdLevel, simd_level};
+use strata_core::trace::{
+    Aabb, BVH_MAX_SPHERES, Bvh, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, Primitives, Ray,
+    SimdLevel, Sphere, bvh_storage_for, primitive_bvh_storage_for, simd_level,
+};
 use strata_core::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 /// What a call did. Anything but `STRATA_STATUS_OK` comes with a message
@@ -862,4 +865,534 @@ pub unsafe extern "C" fn strata_onb_to_local(
             out_len,
         )
     }
+}
+
+// ------------------------------------------------------------ rays and the BVH
+
+/// A ray: `origin + t · dir` for `t` in `(t_min, t_max)`. `dir` must be
+/// unit length (`|d·d − 1| ≤ 16 ε`, which a normalised vector meets),
+/// `origin` finite, and neither bound NaN; calls refuse other rays.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct StrataRay {
+    /// The origin.
+    pub origin: [f32; 3],
+    /// The unit direction.
+    pub dir: [f32; 3],
+    /// The interval's lower end (0 for a camera ray).
+    pub t_min: f32,
+    /// The interval's upper end (`INFINITY` for none).
+    pub t_max: f32,
+}
+
+/// A closest hit: `id` is the sphere's or primitive's index,
+/// `UINT32_MAX` for a miss (then `t` is `INFINITY`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrataHit {
+    /// The ray parameter of the hit.
+    pub t: f32,
+    /// What was hit, or `UINT32_MAX`.
+    pub id: u32,
+}
+
+const MISS: StrataHit = StrataHit {
+    t: f32::INFINITY,
+    id: u32::MAX,
+};
+
+/// The core's ray for ray `i`, checked.
+fn ray_of(r: &StrataRay, i: usize) -> Result<Ray, Failure> {
+    let bad = |why: &str| failure(StrataStatus::InvalidArgument, format!("rays[{i}]: {why}"));
+    let ray = Ray::try_new(r.origin, r.dir)
+        .ok_or_else(|| bad("the origin is not finite or the direction not unit length"))?;
+    if r.t_min.is_nan() || r.t_max.is_nan() {
+        return Err(bad("t_min or t_max is NaN"));
+    }
+    Ok(ray.with_range(r.t_min, r.t_max))
+}
+
+/// The alignment, in bytes, of the storage every BVH call takes.
+const STORAGE_ALIGN: usize = 64;
+const _: () = assert!(std::mem::align_of::<BvhNode8>() <= STORAGE_ALIGN);
+
+/// Where a tree's three arrays sit in one block of caller storage.
+struct Layout {
+    need: BvhStorage,
+    lanes_at: usize,
+    ids_at: usize,
+    bytes: usize,
+}
+
+fn layout(need: BvhStorage) -> Result<Layout, Failure> {
+    let over = || {
+        failure(
+            StrataStatus::InvalidArgument,
+            "the tree's storage overflows",
+        )
+    };
+    let nodes = need
+        .nodes
+        .checked_mul(std::mem::size_of::<BvhNode8>())
+        .ok_or_else(over)?;
+    let lanes = need.lanes.checked_mul(4).ok_or_else(over)?;
+    let ids = need.ids.checked_mul(4).ok_or_else(over)?;
+    let ids_at = nodes.checked_add(lanes).ok_or_else(over)?;
+    Ok(Layout {
+        need,
+        lanes_at: nodes,
+        ids_at,
+        bytes: ids_at.checked_add(ids).ok_or_else(over)?,
+    })
+}
+
+fn too_many(n: usize) -> Result<(), Failure> {
+    if n > BVH_MAX_SPHERES {
+        return Err(failure(
+            StrataStatus::InvalidArgument,
+            format!("{n} items: a tree holds at most {BVH_MAX_SPHERES}"),
+        ));
+    }
+    Ok(())
+}
+
+/// A tree's nodes, sphere lanes and ids.
+type TreeArrays<'a> = (&'a mut [BvhNode8], &'a mut [f32], &'a mut [u32]);
+
+/// The three arrays of a tree in the caller's block, zeroed (nodes
+/// empty) so that no reference ever sees uninitialised memory.
+///
+/// # Safety
+/// `storage` (checked non-null and aligned here) must be valid for
+/// writes of `bytes` bytes, used by nothing else, for as long as `'a`.
+unsafe fn carve<'a>(
+    storage: *mut c_void,
+    bytes: usize,
+    at: &Layout,
+) -> Result<TreeArrays<'a>, Failure> {
+    if storage.is_null() || !(storage as usize).is_multiple_of(STORAGE_ALIGN) {
+        return Err(failure(
+            StrataStatus::NullPointer,
+            format!("storage is null or not aligned to {STORAGE_ALIGN} bytes"),
+        ));
+    }
+    if bytes < at.bytes {
+        return Err(failure(
+            StrataStatus::ShortBuffer,
+            format!("storage holds {bytes} bytes; the tree needs {}", at.bytes),
+        ));
+    }
+    let base = storage.cast::<u8>();
+    // SAFETY: the block is valid for `at.bytes ≤ bytes` writes (the
+    // caller's contract, the length checked above); the three arrays are
+    // disjoint ranges of it, each aligned for its type (the block to 64,
+    // nodes a multiple of 32 bytes long, floats and ids 4), and each is
+    // written before a reference to it is made.
+    unsafe {
+        let nodes = base.cast::<BvhNode8>();
+        for k in 0..at.need.nodes {
+            nodes.add(k).write(BvhNode8::EMPTY);
+        }
+        let lanes = base.add(at.lanes_at).cast::<f32>();
+        lanes.write_bytes(0, at.need.lanes);
+        let ids = base.add(at.ids_at).cast::<u32>();
+        ids.write_bytes(0, at.need.ids);
+        Ok((
+            std::slice::from_raw_parts_mut(nodes, at.need.nodes),
+            std::slice::from_raw_parts_mut(lanes, at.need.lanes),
+            std::slice::from_raw_parts_mut(ids, at.need.ids),
+        ))
+    }
+}
+
+/// The bytes of caller storage a BVH over `n` spheres needs, into
+/// `*bytes`; the storage must be aligned to 64 bytes (C11
+/// `aligned_alloc(64, bytes rounded up to 64)`, or `posix_memalign`).
+///
+/// # Safety
+/// `bytes` null (refused) or valid for one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_bvh_storage_size(n: usize, bytes: *mut usize) -> StrataStatus {
+    guard(|| {
+        too_many(n)?;
+        // SAFETY: per this function's contract.
+        let out = unsafe { output(bytes, 1, "bytes") }?;
+        out[0] = layout(bvh_storage_for(n))?.bytes;
+        Ok(())
+    })
+}
+
+/// A BVH over spheres, built into caller storage (opaque). Queries from
+/// many threads at once are safe; the storage must outlive it unchanged.
+pub struct StrataBvh {
+    bvh: Bvh<'static>,
+}
+
+/// Builds a BVH over the spheres of `spheres` (rows of `x, y, z,
+/// radius`) into `storage` (of `storage_bytes`, at least
+/// [`strata_bvh_storage_size`], aligned to 64), and returns its handle
+/// in `*out`. The spheres are copied into the storage: the array may go
+/// once this returns; the storage may not until [`strata_bvh_free`].
+/// Closest hits are the brute-force loop's over the spheres, bit for bit,
+/// ties to the lowest index.
+///
+/// # Safety
+/// `spheres` null (refused unless its length is 0) or valid for
+/// `spheres_len` floats; `storage` valid for `storage_bytes` bytes and
+/// untouched by the caller until the handle is freed; `out` null
+/// (refused) or valid for one pointer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_bvh_build(
+    spheres: *const f32,
+    spheres_len: usize,
+    storage: *mut c_void,
+    storage_bytes: usize,
+    out: *mut *mut StrataBvh,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (spheres, out) = unsafe {
+            (
+                input(spheres, spheres_len, "spheres")?,
+                output(out, 1, "out")?,
+            )
+        };
+        let n = rows(spheres, 4, "spheres")?;
+        too_many(n)?;
+        let list: Vec<Sphere> = spheres
+            .chunks_exact(4)
+            .map(|s| Sphere::new(Vec3::new(s[0], s[1], s[2]), s[3]))
+            .collect();
+        let at = layout(bvh_storage_for(n))?;
+        // SAFETY: the caller keeps the storage alive and untouched until
+        // `strata_bvh_free`, which drops the view first: `'static` stands
+        // for that span.
+        let (nodes, lanes, ids): TreeArrays<'static> =
+            unsafe { carve(storage, storage_bytes, &at) }?;
+        let bvh = Bvh::build(&list, nodes, lanes, ids)
+            .map_err(|e| failure(StrataStatus::InvalidArgument, format!("spheres: {e}")))?;
+        out[0] = Box::into_raw(Box::new(StrataBvh { bvh }));
+        Ok(())
+    })
+}
+
+/// Frees a BVH handle (not its storage, which is the caller's); null is
+/// ignored.
+///
+/// # Safety
+/// `bvh` null or a handle from [`strata_bvh_build`] not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_bvh_free(bvh: *mut StrataBvh) {
+    if !bvh.is_null() {
+        // SAFETY: from `Box::into_raw` in `strata_bvh_build`, freed once.
+        drop(unsafe { Box::from_raw(bvh) });
+    }
+}
+
+/// # Safety
+/// `p` null (refused) or a live handle.
+unsafe fn handle<'a, T>(p: *const T, what: &str) -> Result<&'a T, Failure> {
+    // SAFETY: a live handle per the caller's contract.
+    unsafe { p.as_ref() }.ok_or_else(|| null(what))
+}
+
+/// Runs `query` over `rays` into `out` (one result per ray).
+///
+/// # Safety
+/// Arrays as the public calls document.
+unsafe fn over_rays<T>(
+    rays: *const StrataRay,
+    n: usize,
+    out: *mut T,
+    out_len: usize,
+    mut query: impl FnMut(&Ray) -> T,
+) -> Result<(), Failure> {
+    // SAFETY: per the calling function's contract.
+    let (rays, out) = unsafe { (input(rays, n, "rays")?, output(out, out_len, "out")?) };
+    let out = room(out, n, "out")?;
+    for (i, (r, o)) in rays.iter().zip(out).enumerate() {
+        *o = query(&ray_of(r, i)?);
+    }
+    Ok(())
+}
+
+/// The closest hit of each of the `n` rays into `hits[i]`.
+/// Rays are checked (see [`StrataRay`]); on an error the hits are
+/// unspecified.
+///
+/// # Safety
+/// `bvh` a live handle; `rays` valid for `n` rays, `hits` for
+/// `hits_len` hits (null refused unless the length is 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_bvh_closest_hit(
+    bvh: *const StrataBvh,
+    rays: *const StrataRay,
+    n: usize,
+    hits: *mut StrataHit,
+    hits_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
+        let mut stack = BvhStack::new();
+        // SAFETY: per this function's contract.
+        unsafe {
+            over_rays(rays, n, hits, hits_len, |ray| {
+                bvh.closest_hit_with(ray, &mut stack)
+                    .map_or(MISS, |h| StrataHit {
+                        t: h.t,
+                        id: h.sphere,
+                    })
+            })
+        }
+    })
+}
+
+/// Whether each of the `n` rays hits anything (`1`) or not (`0`), into
+/// `occluded[i]`.
+///
+/// # Safety
+/// As [`strata_bvh_closest_hit`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_bvh_any_hit(
+    bvh: *const StrataBvh,
+    rays: *const StrataRay,
+    n: usize,
+    occluded: *mut u8,
+    occluded_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
+        let mut stack = BvhStack::new();
+        // SAFETY: per this function's contract.
+        unsafe {
+            over_rays(rays, n, occluded, occluded_len, |ray| {
+                u8::from(bvh.any_hit_with(ray, &mut stack))
+            })
+        }
+    })
+}
+
+// ------------------------------------------------------------ the caller's primitives
+
+/// A box: `min` to `max`; empty (`min > max` on an axis) for a primitive
+/// that can never be hit.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct StrataAabb {
+    /// The least corner.
+    pub min: [f32; 3],
+    /// The greatest corner.
+    pub max: [f32; 3],
+}
+
+/// The caller's intersection routine: whether `ray` hits primitive
+/// `index` in `(t_min, t_max)`, and if so its `t` in `*t`. `user` is the
+/// pointer given to the build. It must be a pure function of its
+/// arguments while the tree is used, and may be called from any thread
+/// that queries the tree.
+pub type StrataIntersectFn = Option<
+    unsafe extern "C" fn(user: *mut c_void, index: u32, ray: *const StrataRay, t: *mut f32) -> bool,
+>;
+
+/// The caller's primitives as the core sees them.
+struct CPrimitives {
+    bounds: &'static [StrataAabb],
+    intersect: unsafe extern "C" fn(*mut c_void, u32, *const StrataRay, *mut f32) -> bool,
+    user: *mut c_void,
+}
+
+fn aabb(b: &StrataAabb) -> Aabb {
+    Aabb::new(b.min, b.max)
+}
+
+impl Primitives for CPrimitives {
+    type Data = ();
+    fn len(&self) -> usize {
+        self.bounds.len()
+    }
+    fn bounds(&self, index: usize) -> Aabb {
+        aabb(&self.bounds[index])
+    }
+    fn intersect(&self, index: usize, ray: &Ray) -> Option<(f32, ())> {
+        let r = StrataRay {
+            origin: ray.origin.to_array(),
+            dir: ray.dir.to_array(),
+            t_min: ray.t_min,
+            t_max: ray.t_max,
+        };
+        let mut t = f32::NAN;
+        // SAFETY: the routine and `user` are the caller's, with the
+        // contract of `StrataIntersectFn`; `index` < len fits a u32
+        // (at most BVH_MAX_SPHERES items); both pointers are to locals.
+        let hit = unsafe { (self.intersect)(self.user, index as u32, &r, &mut t) };
+        // The tree's one requirement, kept here: a hit outside its box is
+        // dropped (as the brute-force reference drops it too).
+        (hit && t > ray.t_min && t < ray.t_max && self.bounds(index).holds_hit(ray, t))
+            .then_some((t, ()))
+    }
+}
+
+/// A BVH over the caller's primitives (opaque).
+pub struct StrataPrimitiveBvh {
+    /// Declared first: dropped before the primitives it borrows.
+    bvh: PrimitiveBvh<'static, CPrimitives>,
+    prims: *mut CPrimitives,
+}
+
+impl Drop for StrataPrimitiveBvh {
+    fn drop(&mut self) {
+        // SAFETY: `prims` came from `Box::into_raw` in the build and is
+        // freed once, here; the view borrowing it is dropped after this
+        // body runs but never used again (its drop does nothing).
+        drop(unsafe { Box::from_raw(self.prims) });
+    }
+}
+
+/// The bytes of caller storage a BVH over `n` primitives needs (aligned
+/// to 64, as for spheres).
+///
+/// # Safety
+/// `bytes` null (refused) or valid for one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_primitive_bvh_storage_size(
+    n: usize,
+    bytes: *mut usize,
+) -> StrataStatus {
+    guard(|| {
+        too_many(n)?;
+        // SAFETY: per this function's contract.
+        let out = unsafe { output(bytes, 1, "bytes") }?;
+        out[0] = layout(primitive_bvh_storage_for(n))?.bytes;
+        Ok(())
+    })
+}
+
+/// Builds a BVH over `n` primitives with boxes `bounds[0..n]` whose hits
+/// `intersect` reports, into `storage` (at least
+/// [`strata_primitive_bvh_storage_size`], aligned to 64). The boxes are
+/// not copied: `bounds`, `user`'s data and the storage must outlive the
+/// handle unchanged. A hit the routine reports outside its primitive's
+/// box (beyond rounding: the core's `Aabb::holds_hit`) is dropped, so
+/// queries return exactly what a loop over the routine (dropping the
+/// same hits) returns, ties to the lowest index.
+///
+/// # Safety
+/// `bounds` valid for `n` boxes; `intersect` a routine with the contract
+/// of [`StrataIntersectFn`]; `storage` valid for `storage_bytes` bytes;
+/// `out` valid for one pointer (nulls refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_primitive_bvh_build(
+    bounds: *const StrataAabb,
+    n: usize,
+    intersect: StrataIntersectFn,
+    user: *mut c_void,
+    storage: *mut c_void,
+    storage_bytes: usize,
+    out: *mut *mut StrataPrimitiveBvh,
+) -> StrataStatus {
+    guard(|| {
+        too_many(n)?;
+        let intersect = intersect.ok_or_else(|| null("intersect"))?;
+        // SAFETY: per this function's contract; `'static` stands for the
+        // handle's life, which the caller keeps `bounds` alive for.
+        let bounds: &'static [StrataAabb] = unsafe { input(bounds, n, "bounds") }?;
+        // SAFETY: per this function's contract.
+        let out = unsafe { output(out, 1, "out") }?;
+        let at = layout(primitive_bvh_storage_for(n))?;
+        // SAFETY: as in `strata_bvh_build`.
+        let (nodes, _, ids): TreeArrays<'static> = unsafe { carve(storage, storage_bytes, &at) }?;
+        let prims = Box::into_raw(Box::new(CPrimitives {
+            bounds,
+            intersect,
+            user,
+        }));
+        // SAFETY: `prims` lives until the handle's drop frees it, after
+        // the last use of this reference.
+        let view: &'static CPrimitives = unsafe { &*prims };
+        match PrimitiveBvh::build(view, nodes, ids) {
+            Ok(bvh) => {
+                out[0] = Box::into_raw(Box::new(StrataPrimitiveBvh { bvh, prims }));
+                Ok(())
+            }
+            Err(e) => {
+                // SAFETY: from `Box::into_raw` above; nothing borrows it.
+                drop(unsafe { Box::from_raw(prims) });
+                Err(failure(
+                    StrataStatus::InvalidArgument,
+                    format!("bounds: {e}"),
+                ))
+            }
+        }
+    })
+}
+
+/// Frees a primitive BVH handle (not the storage, the boxes or `user`);
+/// null is ignored.
+///
+/// # Safety
+/// `bvh` null or a handle from [`strata_primitive_bvh_build`] not freed
+/// before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_primitive_bvh_free(bvh: *mut StrataPrimitiveBvh) {
+    if !bvh.is_null() {
+        // SAFETY: from `Box::into_raw` in the build, freed once.
+        drop(unsafe { Box::from_raw(bvh) });
+    }
+}
+
+/// The closest hit of each of the `n` rays among the primitives, into
+/// `hits[i]` (`id` the primitive's index).
+///
+/// # Safety
+/// As [`strata_bvh_closest_hit`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_primitive_bvh_closest_hit(
+    bvh: *const StrataPrimitiveBvh,
+    rays: *const StrataRay,
+    n: usize,
+    hits: *mut StrataHit,
+    hits_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
+        let mut stack = BvhStack::new();
+        // SAFETY: per this function's contract.
+        unsafe {
+            over_rays(rays, n, hits, hits_len, |ray| {
+                bvh.closest_hit_with(ray, &mut stack)
+                    .map_or(MISS, |h| StrataHit {
+                        t: h.t,
+                        id: h.primitive,
+                    })
+            })
+        }
+    })
+}
+
+/// Whether each of the `n` rays hits any primitive, into `occluded[i]`.
+///
+/// # Safety
+/// As [`strata_bvh_closest_hit`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_primitive_bvh_any_hit(
+    bvh: *const StrataPrimitiveBvh,
+    rays: *const StrataRay,
+    n: usize,
+    occluded: *mut u8,
+    occluded_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
+        let mut stack = BvhStack::new();
+        // SAFETY: per this function's contract.
+        unsafe {
+            over_rays(rays, n, occluded, occluded_len, |ray| {
+                u8::from(bvh.any_hit_with(ray, &mut stack))
+            })
+        }
+    })
 }

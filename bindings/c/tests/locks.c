@@ -4,7 +4,11 @@
  * error code and a message, never a crash.
  *
  * usage: locks LOCKS_JSON EXPECTED_SIMD_LEVEL
+ * (the reference sphere lists are read beside LOCKS_JSON)
  */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -355,6 +359,271 @@ static void bad_input(void) {
   CHECK(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 2, out, 3) == STRATA_STATUS_OK, "NaN u");
 }
 
+/* ---------------------------------------------------------- the BVH */
+
+/* PCG32 (pcg-c-basic's pcg32_srandom and pcg32_random): the tracing
+ * lock's ray generator, as rand_pcg's Pcg32::new(state, stream). */
+typedef struct {
+  uint64_t state, inc;
+} Pcg;
+
+static uint32_t pcg_next(Pcg *p) {
+  uint64_t old = p->state;
+  uint32_t xs, rot;
+  p->state = old * 6364136223846793005ull + p->inc;
+  xs = (uint32_t)(((old >> 18u) ^ old) >> 27u);
+  rot = (uint32_t)(old >> 59u);
+  return (xs >> rot) | (xs << ((0u - rot) & 31u));
+}
+
+static Pcg pcg_new(uint64_t state, uint64_t stream) {
+  Pcg p;
+  p.inc = (stream << 1u) | 1u;
+  p.state = state + p.inc;
+  p.state = p.state * 6364136223846793005ull + p.inc;
+  return p;
+}
+
+/* The 24 high bits, times 2^-24: the core's next_f32. */
+static float pcg_f32(Pcg *p) { return (float)(pcg_next(p) >> 8) * (1.0f / 16777216.0f); }
+
+/* Aligned storage for a tree of `bytes`. */
+static void *tree_storage(size_t bytes) {
+  size_t rounded = (bytes + 63) / 64 * 64;
+  return aligned_alloc(64, rounded ? rounded : 64);
+}
+
+/* Spheres (x, y, z, r rows) from a reference CSV; their count in *n. */
+static float *read_spheres(const char *path, size_t *n) {
+  char *text = read_file(path), *line, *save = NULL;
+  float *out;
+  size_t cap = 1024, k = 0;
+  if (!text) return NULL;
+  out = malloc(cap * 4 * sizeof *out);
+  for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+    float v[4];
+    char *p = line, *end;
+    int i;
+    if (strchr(line, 'x')) continue; /* the header */
+    for (i = 0; i < 4; i++) {
+      v[i] = strtof(p, &end);
+      if (end == p) break;
+      p = end + (*end == ',');
+    }
+    if (i < 4) continue;
+    if (k == cap) out = realloc(out, (cap *= 2) * 4 * sizeof *out);
+    memcpy(out + 4 * k++, v, sizeof v);
+  }
+  free(text);
+  *n = k;
+  return out;
+}
+
+/* The tracing lock of one layout: 4096 rays from PCG32(3), origins in
+ * [lo, hi], directions uniform on the sphere (normalised), traced
+ * through a BVH built into aligned storage. */
+static uint64_t tracing_hash(const float *spheres, size_t n, const float lo[3], const float hi[3],
+                             uint64_t stream) {
+  enum { RAYS = 4096 };
+  static StrataRay rays[RAYS];
+  static StrataHit hits[RAYS];
+  static uint8_t any[RAYS];
+  Pcg rng = pcg_new(3, stream);
+  Fnv f = {0xcbf29ce484222325ull};
+  StrataBvh *bvh = NULL;
+  size_t bytes = 0, i;
+  void *storage;
+  for (i = 0; i < RAYS; i++) {
+    float u[2], d[3], len2, inv;
+    int k;
+    for (k = 0; k < 3; k++) {
+      float span = hi[k] - lo[k];
+      rays[i].origin[k] = lo[k] + span * pcg_f32(&rng);
+    }
+    u[0] = pcg_f32(&rng);
+    u[1] = pcg_f32(&rng);
+    ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 2, d, 3), "ray direction");
+    /* glam's normalize: times 1 / sqrt(x x + y y + z z). */
+    len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    inv = 1.0f / sqrtf(len2);
+    for (k = 0; k < 3; k++) rays[i].dir[k] = d[k] * inv;
+    rays[i].t_min = 0.0f;
+    rays[i].t_max = INFINITY;
+  }
+  ok(strata_bvh_storage_size(n, &bytes), "storage size");
+  storage = tree_storage(bytes);
+  ok(strata_bvh_build(spheres, 4 * n, storage, bytes, &bvh), "build");
+  ok(strata_bvh_closest_hit(bvh, rays, RAYS, hits, RAYS), "closest");
+  ok(strata_bvh_any_hit(bvh, rays, RAYS, any, RAYS), "any");
+  for (i = 0; i < RAYS; i++) {
+    fnv_word(&f, hits[i].id);
+    fnv_word(&f, hits[i].id == UINT32_MAX ? 0u : bits(hits[i].t));
+    fnv_word(&f, any[i]);
+    CHECK(any[i] == (hits[i].id != UINT32_MAX), "ray %zu: any hit disagrees with the closest", i);
+  }
+  strata_bvh_free(bvh);
+  free(storage);
+  return f.h;
+}
+
+static void tracing_locks(const char *json, const char *data_dir) {
+  struct {
+    const char *name, *file;
+    float lo[3], hi[3];
+  } cases[2] = {{"course", "course.csv", {-2.0f, -0.5f, -2.0f}, {2.0f, 1.0f, 1.0f}},
+                {"cover", "cover.csv", {-11.0f, 0.0f, -11.0f}, {11.0f, 2.0f, 11.0f}}};
+  uint64_t stream = 0;
+  int c;
+  CHECK(read_hex(json, "pcg_stream", &stream), "pcg_stream: not in the locks file");
+  for (c = 0; c < 2; c++) {
+    char path[4200];
+    size_t n = 0;
+    float *spheres;
+    uint64_t want = 0, got;
+    snprintf(path, sizeof path, "%s/%s", data_dir, cases[c].file);
+    spheres = read_spheres(path, &n);
+    CHECK(spheres && n > 0, "%s: no spheres read", path);
+    if (!spheres) continue;
+    got = tracing_hash(spheres, n, cases[c].lo, cases[c].hi, stream);
+    CHECK(read_hex(json, cases[c].name, &want), "%s: not in the locks file", cases[c].name);
+    CHECK(got == want, "tracing %s (%zu spheres): %016llx, locked %016llx", cases[c].name, n,
+          (unsigned long long)got, (unsigned long long)want);
+    free(spheres);
+  }
+}
+
+/* The caller's primitives: boxes, hit by a slab test in C. */
+static bool box_hit(void *user, uint32_t index, const StrataRay *r, float *t) {
+  const StrataAabb *b = (const StrataAabb *)user + index;
+  float near = -INFINITY, far = INFINITY, hit;
+  int k;
+  for (k = 0; k < 3; k++) {
+    float inv = 1.0f / r->dir[k];
+    float a = (b->min[k] - r->origin[k]) * inv, z = (b->max[k] - r->origin[k]) * inv;
+    if (a > z) {
+      float s = a;
+      a = z;
+      z = s;
+    }
+    near = a > near ? a : near;
+    far = z < far ? z : far;
+  }
+  if (!(near <= far)) return false;
+  hit = near > r->t_min ? near : far;
+  if (!(hit > r->t_min && hit < r->t_max)) return false;
+  *t = hit;
+  return true;
+}
+
+/* The primitive BVH against a brute-force loop over the same routine:
+ * 10^4 rays over 1,000 boxes, closest (index and t bits) and any. */
+static void primitive_bvh(void) {
+  enum { BOXES = 1000, RAYS = 10000 };
+  static StrataAabb boxes[BOXES];
+  static StrataRay rays[RAYS];
+  static StrataHit hits[RAYS];
+  static uint8_t any[RAYS];
+  Pcg rng = pcg_new(11, 5);
+  StrataPrimitiveBvh *bvh = NULL;
+  size_t bytes = 0, i, j, hit_count = 0;
+  void *storage;
+  for (i = 0; i < BOXES; i++) {
+    int k;
+    for (k = 0; k < 3; k++) {
+      float c = 20.0f * pcg_f32(&rng) - 10.0f, h = 0.5f * pcg_f32(&rng);
+      boxes[i].min[k] = c - h;
+      boxes[i].max[k] = c + h;
+    }
+  }
+  for (i = 0; i < RAYS; i++) {
+    float u[2], d[3];
+    int k;
+    for (k = 0; k < 3; k++) rays[i].origin[k] = 24.0f * pcg_f32(&rng) - 12.0f;
+    u[0] = pcg_f32(&rng);
+    u[1] = pcg_f32(&rng);
+    ok(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 2, d, 3), "direction");
+    memcpy(rays[i].dir, d, sizeof d);
+    rays[i].t_min = 0.0f;
+    rays[i].t_max = INFINITY;
+  }
+  ok(strata_primitive_bvh_storage_size(BOXES, &bytes), "storage size");
+  storage = tree_storage(bytes);
+  ok(strata_primitive_bvh_build(boxes, BOXES, box_hit, boxes, storage, bytes, &bvh), "build");
+  ok(strata_primitive_bvh_closest_hit(bvh, rays, RAYS, hits, RAYS), "closest");
+  ok(strata_primitive_bvh_any_hit(bvh, rays, RAYS, any, RAYS), "any");
+  for (i = 0; i < RAYS; i++) {
+    StrataHit want = {INFINITY, UINT32_MAX};
+    for (j = 0; j < BOXES; j++) {
+      float t;
+      if (box_hit(boxes, (uint32_t)j, &rays[i], &t) && t < want.t) {
+        want.t = t;
+        want.id = (uint32_t)j;
+      }
+    }
+    hit_count += want.id != UINT32_MAX;
+    CHECK(hits[i].id == want.id && bits(hits[i].t) == bits(want.t), "ray %zu: tree %u at %g, loop %u at %g", i,
+          hits[i].id, hits[i].t, want.id, want.t);
+    CHECK(any[i] == (want.id != UINT32_MAX), "ray %zu: any hit", i);
+  }
+  CHECK(hit_count > RAYS / 10 && hit_count < RAYS, "%zu of %d rays hit: the test reaches nothing", hit_count,
+        RAYS);
+  strata_primitive_bvh_free(bvh);
+  free(storage);
+}
+
+static void bvh_bad_input(void) {
+  float sphere[4] = {0.0f, 0.0f, -3.0f, 1.0f}, bad_sphere[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  StrataRay ray = {{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, INFINITY};
+  StrataHit hit;
+  StrataAabb box = {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};
+  StrataBvh *bvh = NULL;
+  StrataPrimitiveBvh *pbvh = NULL;
+  size_t bytes = 0;
+  unsigned char *storage;
+  bad_sphere[3] = 3e30f; /* beyond the tree's coordinate range */
+  ok(strata_bvh_storage_size(1, &bytes), "size");
+  storage = tree_storage(bytes + 64);
+  expect(strata_bvh_storage_size(1, NULL), STRATA_STATUS_NULL_POINTER, "size into null");
+  expect(strata_bvh_storage_size((size_t)1 << 40, &bytes), STRATA_STATUS_INVALID_ARGUMENT, "too many spheres");
+  expect(strata_bvh_build(sphere, 4, NULL, bytes, &bvh), STRATA_STATUS_NULL_POINTER, "null storage");
+  expect(strata_bvh_build(sphere, 4, storage + 4, bytes, &bvh), STRATA_STATUS_NULL_POINTER, "misaligned storage");
+  expect(strata_bvh_build(sphere, 4, storage, bytes - 1, &bvh), STRATA_STATUS_SHORT_BUFFER, "short storage");
+  expect(strata_bvh_build(sphere, 3, storage, bytes, &bvh), STRATA_STATUS_SHORT_BUFFER, "three floats");
+  expect(strata_bvh_build(bad_sphere, 4, storage, bytes, &bvh), STRATA_STATUS_INVALID_ARGUMENT, "sphere out of range");
+  ok(strata_bvh_build(sphere, 4, storage, bytes, &bvh), "build");
+  ok(strata_bvh_closest_hit(bvh, &ray, 1, &hit, 1), "closest");
+  CHECK(hit.id == 0 && hit.t == 2.0f, "the sphere at t = 2: %u at %g", hit.id, hit.t);
+  expect(strata_bvh_closest_hit(NULL, &ray, 1, &hit, 1), STRATA_STATUS_NULL_POINTER, "null tree");
+  expect(strata_bvh_closest_hit(bvh, &ray, 1, NULL, 1), STRATA_STATUS_NULL_POINTER, "null hits");
+  expect(strata_bvh_closest_hit(bvh, &ray, 1, &hit, 0), STRATA_STATUS_SHORT_BUFFER, "no room for hits");
+  ray.dir[2] = -2.0f;
+  expect(strata_bvh_closest_hit(bvh, &ray, 1, &hit, 1), STRATA_STATUS_INVALID_ARGUMENT, "direction not unit");
+  ray.dir[2] = -1.0f;
+  ray.origin[0] = strtof("nan", NULL);
+  expect(strata_bvh_any_hit(bvh, &ray, 1, (uint8_t *)&hit, 1), STRATA_STATUS_INVALID_ARGUMENT, "NaN origin");
+  ray.origin[0] = 0.0f;
+  ray.t_max = strtof("nan", NULL);
+  expect(strata_bvh_closest_hit(bvh, &ray, 1, &hit, 1), STRATA_STATUS_INVALID_ARGUMENT, "NaN t_max");
+  strata_bvh_free(bvh);
+  strata_bvh_free(NULL);
+
+  ok(strata_primitive_bvh_storage_size(1, &bytes), "size");
+  expect(strata_primitive_bvh_build(&box, 1, NULL, &box, storage, bytes, &pbvh), STRATA_STATUS_NULL_POINTER,
+         "no routine");
+  box.max[0] = strtof("nan", NULL);
+  expect(strata_primitive_bvh_build(&box, 1, box_hit, &box, storage, bytes, &pbvh),
+         STRATA_STATUS_INVALID_ARGUMENT, "NaN box");
+  box.max[0] = 1.0f;
+  expect(strata_primitive_bvh_build(NULL, 1, box_hit, &box, storage, bytes, &pbvh), STRATA_STATUS_NULL_POINTER,
+         "null boxes");
+  ok(strata_primitive_bvh_build(&box, 1, box_hit, &box, storage, bytes, &pbvh), "build");
+  ray.t_max = INFINITY;
+  expect(strata_primitive_bvh_closest_hit(pbvh, &ray, 1, &hit, 0), STRATA_STATUS_SHORT_BUFFER, "no room");
+  strata_primitive_bvh_free(pbvh);
+  strata_primitive_bvh_free(NULL);
+  free(storage);
+}
+
 int main(int argc, char **argv) {
   char *json;
   const char *level = strata_simd_level();
@@ -372,7 +641,17 @@ int main(int argc, char **argv) {
   CHECK(strata_output_revision() > 0, "output revision");
   sampler_locks(json);
   mapping_locks(json);
+  {
+    /* The reference layouts sit beside the locks file. */
+    char dir[4096];
+    const char *slash = strrchr(argv[1], '/');
+    size_t len = slash ? (size_t)(slash - argv[1]) : 1;
+    snprintf(dir, sizeof dir, "%.*s", (int)len, slash ? argv[1] : ".");
+    tracing_locks(json, dir);
+  }
+  primitive_bvh();
   bad_input();
+  bvh_bad_input();
   free(json);
   if (failures) {
     fprintf(stderr, "%d failures\n", failures);
