@@ -18,6 +18,7 @@ if ! command -v cbindgen >/dev/null || [[ "$(cbindgen --version)" != "cbindgen $
 fi
 need=()
 command -v gcc >/dev/null || need+=(gcc)
+command -v g++ >/dev/null || need+=(g++)
 command -v valgrind >/dev/null || need+=(valgrind)
 if ((${#need[@]})); then
   export DEBIAN_FRONTEND=noninteractive
@@ -52,4 +53,20 @@ echo "== C tests, shared library, under memcheck"
 gcc "${cflags[@]}" bindings/c/tests/locks.c -L"$lib" -lstrata -Wl,-rpath,"$lib" -lm -o "$out/locks_shared"
 valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
   "$out/locks_shared" core/tests/data/locks.json "$level"
+echo "== the header alone, as C99"
+printf '#include "strata.h"\nint main(void) { return strata_output_revision() == 0; }\n' > "$out/c99.c"
+gcc -std=c99 -Wall -Wextra -Werror -pedantic -I bindings/c/include -fsyntax-only "$out/c99.c"
+
+echo "== examples: the same path tracer in C and in C++, under memcheck"
+gcc "${cflags[@]}" bindings/c/examples/render.c -L"$lib" -lstrata -Wl,-rpath,"$lib" -lm -o "$out/render_c"
+g++ -std=c++17 -O2 -Wall -Wextra -Werror -pedantic -ffp-contract=off -I bindings/c/include \
+  bindings/c/examples/render.cpp -L"$lib" -lstrata -Wl,-rpath,"$lib" -o "$out/render_cpp"
+memcheck() {
+  valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect "$@"
+}
+c_hash=$(memcheck "$out/render_c" "$out/render_c.ppm")
+cpp_hash=$(memcheck "$out/render_cpp" "$out/render_cpp.ppm")
+echo "C: $c_hash, C++: $cpp_hash"
+[[ -n "$c_hash" && "$c_hash" == "$cpp_hash" ]]
+cmp "$out/render_c.ppm" "$out/render_cpp.ppm"
 echo "C API: all tests passed"
