@@ -47,12 +47,16 @@ cflags=(-std=c11 -O2 -Wall -Wextra -Werror -pedantic -ffp-contract=off -I bindin
 echo "== C tests, static library"
 gcc "${cflags[@]}" bindings/c/tests/locks.c "$lib/libstrata.a" \
   -lgcc_s -lutil -lrt -lpthread -lm -ldl -o "$out/locks_static"
-"$out/locks_static" core/tests/data/locks.json "$level"
+"$out/locks_static" core/tests/data/locks.json std-runner/tests/data/golden.json "$level"
 
 echo "== C tests, shared library, under memcheck"
 gcc "${cflags[@]}" bindings/c/tests/locks.c -L"$lib" -lstrata -Wl,-rpath,"$lib" -lm -o "$out/locks_shared"
+# A whole-frame render's pool ends with its call, but rayon does not join
+# its threads: one still leaving as the process exits holds its
+# thread-local blocks, which memcheck counts as possibly lost. Definite
+# and indirect leaks fail the test.
 valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
-  "$out/locks_shared" core/tests/data/locks.json "$level"
+  --show-possibly-lost=no "$out/locks_shared" core/tests/data/locks.json std-runner/tests/data/golden.json "$level"
 echo "== the header alone, as C99"
 printf '#include "strata.h"\nint main(void) { return strata_output_revision() == 0; }\n' > "$out/c99.c"
 gcc -std=c99 -Wall -Wextra -Werror -pedantic -I bindings/c/include -fsyntax-only "$out/c99.c"

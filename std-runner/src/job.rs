@@ -336,44 +336,8 @@ fn resumable(
 ) -> Result<Outcome> {
     let data = job.scene;
     let w = job.window;
-    if w.width == 0
-        || w.height == 0
-        || w.x0.checked_add(w.width).is_none_or(|x1| x1 > job.width)
-        || w.y0.checked_add(w.height).is_none_or(|y1| y1 > job.height)
-    {
-        return Err(anyhow!(
-            "pixel window {} is empty or outside the {}x{} image",
-            bounds_text(w),
-            job.width,
-            job.height
-        ));
-    }
-    if job.adaptive.is_some() && job.sampler == SamplerKind::Grid {
-        return Err(anyhow!(
-            "adaptive sampling needs a sampler whose first samples spread over the pixel; \
-             the grid fills its rows in order"
-        ));
-    }
+    let (camera, settings) = prepare(job)?;
     let layout = job.layout();
-    if let Some(a) = job.adaptive
-        && (a.max() != job.spp || job.samples != (0..job.spp))
-    {
-        return Err(anyhow!(
-            "adaptive sampling renders samples 0..{} of every pixel, not {}..{} of {}",
-            a.max(),
-            job.samples.start,
-            job.samples.end,
-            job.spp
-        ));
-    }
-    let camera = Camera::new(&data.camera, job.width, job.height)
-        .map_err(|e| anyhow!("camera of `{}`: {e}", data.name))?;
-    let settings = RenderSettings {
-        max_depth: job.max_depth,
-        direct_lighting: job.direct_lighting,
-        filter: job.filter,
-        texture_filter: job.texture_filter,
-    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
         .build()
@@ -442,6 +406,51 @@ fn resumable(
         stats,
         run_stats,
     }))
+}
+
+/// Checks what the plan cannot (the window inside the image, adaptive
+/// settings that fit the job) and makes the camera and the settings of
+/// the core's tile renderers.
+fn prepare(job: &Job<'_>) -> Result<(Camera, RenderSettings)> {
+    let w = job.window;
+    if w.width == 0
+        || w.height == 0
+        || w.x0.checked_add(w.width).is_none_or(|x1| x1 > job.width)
+        || w.y0.checked_add(w.height).is_none_or(|y1| y1 > job.height)
+    {
+        return Err(anyhow!(
+            "pixel window {} is empty or outside the {}x{} image",
+            bounds_text(w),
+            job.width,
+            job.height
+        ));
+    }
+    if job.adaptive.is_some() && job.sampler == SamplerKind::Grid {
+        return Err(anyhow!(
+            "adaptive sampling needs a sampler whose first samples spread over the pixel; \
+             the grid fills its rows in order"
+        ));
+    }
+    if let Some(a) = job.adaptive
+        && (a.max() != job.spp || job.samples != (0..job.spp))
+    {
+        return Err(anyhow!(
+            "adaptive sampling renders samples 0..{} of every pixel, not {}..{} of {}",
+            a.max(),
+            job.samples.start,
+            job.samples.end,
+            job.spp
+        ));
+    }
+    let camera = Camera::new(&job.scene.camera, job.width, job.height)
+        .map_err(|e| anyhow!("camera of `{}`: {e}", job.scene.name))?;
+    let settings = RenderSettings {
+        max_depth: job.max_depth,
+        direct_lighting: job.direct_lighting,
+        filter: job.filter,
+        texture_filter: job.texture_filter,
+    };
+    Ok((camera, settings))
 }
 
 /// Adds a splatted tile's film (the tile and its margin, as `layout`
@@ -514,23 +523,7 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
             if all.skip[i] || all.stop.load(Ordering::Relaxed) {
                 return Ok(None);
             }
-            let mut film = vec![PixelSum::ZERO; tile_film_len(job, tile)?];
-            let samples = job.samples.clone();
-            let stats = match job.layout().renderer() {
-                TileRenderer::Adaptive => {
-                    let a = job
-                        .adaptive
-                        .ok_or_else(|| anyhow!("an adaptive layout without adaptive settings"))?;
-                    render_tile_adaptive(scene, camera, &sampler, settings, tile, a, &mut film)
-                }
-                TileRenderer::Splat => {
-                    render_tile_splat(scene, camera, &sampler, settings, tile, samples, &mut film)
-                }
-                TileRenderer::Uniform => {
-                    render_tile(scene, camera, &sampler, settings, tile, samples, &mut film)
-                }
-            }
-            .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
+            let (film, stats) = tile_film(job, scene, camera, &sampler, settings, tile)?;
             let out = (i as u32, film, stats);
             (all.on_tile)(&out)?;
             progress(tile.area() as u64);
@@ -538,6 +531,82 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
         })
         .collect();
     Ok(found?.into_iter().flatten().collect())
+}
+
+/// One tile's film and statistics, by the core renderer the job's
+/// layout picks.
+fn tile_film<S: Sampler + Clone>(
+    job: &Job<'_>,
+    scene: &Scene<'_>,
+    camera: &Camera,
+    sampler: &S,
+    settings: &RenderSettings,
+    tile: Tile,
+) -> Result<(Vec<PixelSum>, TileStats)> {
+    let mut film = vec![PixelSum::ZERO; tile_film_len(job, tile)?];
+    let samples = job.samples.clone();
+    let stats = match job.layout().renderer() {
+        TileRenderer::Adaptive => {
+            let a = job
+                .adaptive
+                .ok_or_else(|| anyhow!("an adaptive layout without adaptive settings"))?;
+            render_tile_adaptive(scene, camera, sampler, settings, tile, a, &mut film)
+        }
+        TileRenderer::Splat => {
+            render_tile_splat(scene, camera, sampler, settings, tile, samples, &mut film)
+        }
+        TileRenderer::Uniform => {
+            render_tile(scene, camera, sampler, settings, tile, samples, &mut film)
+        }
+    }
+    .map_err(|e| anyhow!("tile {}: {e}", bounds_text(tile)))?;
+    Ok((film, stats))
+}
+
+/// Renders tile `index` of `job` ([`job_tiles`]' order) on the calling
+/// thread, with no pool: for a host that owns its threads (the C API's
+/// tile calls). Its film is the one [`run`] places (or adds, splatted)
+/// at that tile, so a host that renders every tile and places them so
+/// has [`run`]'s pixels. The scene's structures are built for the call
+/// (for the cover's 485 spheres, well under a millisecond).
+pub fn render_tile_here(job: &Job<'_>, index: usize) -> Result<TileFilm> {
+    let all = job_tiles(job);
+    let &tile = all
+        .get(index)
+        .ok_or_else(|| anyhow!("tile {index}: the render has {} tiles", all.len()))?;
+    let (camera, settings) = prepare(job)?;
+    struct One<'a, 's> {
+        job: &'a Job<'a>,
+        scene: &'a Scene<'s>,
+        camera: &'a Camera,
+        settings: &'a RenderSettings,
+        tile: Tile,
+    }
+    impl WithSampler for One<'_, '_> {
+        type Output = Result<(Vec<PixelSum>, TileStats)>;
+        fn run<S: Sampler + Clone + Send + Sync>(self, sampler: S) -> Self::Output {
+            tile_film(
+                self.job,
+                self.scene,
+                self.camera,
+                &sampler,
+                self.settings,
+                self.tile,
+            )
+        }
+    }
+    let resolution = UVec2::new(job.width, job.height);
+    let (film, stats) = job.scene.with_scene_bvh(job.bvh, |scene| {
+        let one = One {
+            job,
+            scene,
+            camera: &camera,
+            settings: &settings,
+            tile,
+        };
+        job.sampler.with_sampler(job.spp, job.seed, resolution, one)
+    })???;
+    Ok((index as u32, film, stats))
 }
 
 /// `x0,x1,y0,y1` of a tile, as `--pixel-bounds` takes it, for messages;

@@ -171,3 +171,49 @@ fn every_scene_and_file_format_is_locked() {
         }
     }
 }
+
+/// The golden rows other languages reproduce (the C API's tests, later
+/// Python and the browser), as a data file written from the table, so
+/// no hash is copied by hand: every built-in scene's film hash for every
+/// sampler, with the golden render's settings as `strata render` flags.
+/// `STRATA_BLESS=1` writes it after a deliberate change.
+fn golden_json() -> String {
+    let (w, h) = golden::SIZE;
+    let mut out = String::from(
+        "{\n  \"about\": \"Golden film hashes (FNV-1a 64 of the exact sums), written by std-runner/tests/output_locks.rs (golden_file_is_current) from std-runner/src/golden.rs.\",\n",
+    );
+    out += &format!(
+        "  \"flags\": [\"--width\", \"{w}\", \"--height\", \"{h}\", \"--spp\", \"{}\", \"--seed\", \"{}\", \"--max-depth\", \"{}\"],\n",
+        golden::SPP,
+        golden::SEED,
+        golden::DEPTH
+    );
+    out += "  \"films\": {\n";
+    let rows: Vec<String> = golden::GOLDEN
+        .iter()
+        .filter(|(scene, key, _)| {
+            strata_runner::scenes::BUILT_IN.contains(scene)
+                && strata_runner::job::SamplerKind::ALL
+                    .iter()
+                    .any(|k| k.name() == *key)
+        })
+        .map(|(scene, key, hash)| format!("    \"{scene}/{key}\": \"{hash:#018x}\""))
+        .collect();
+    out += &rows.join(",\n");
+    out += "\n  }\n}\n";
+    out
+}
+
+#[test]
+fn golden_file_is_current() {
+    let want = golden_json();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/golden.json");
+    if std::env::var_os("STRATA_BLESS").is_some() {
+        std::fs::write(path, &want).unwrap();
+    }
+    let got = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        got == want,
+        "std-runner/tests/data/golden.json differs from the golden table: run `STRATA_BLESS=1 cargo test -p strata-runner --test output_locks golden_file`"
+    );
+}

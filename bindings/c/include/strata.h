@@ -139,6 +139,12 @@ typedef struct StrataBvh StrataBvh;
 typedef struct StrataPrimitiveBvh StrataPrimitiveBvh;
 
 /**
+ * A render, planned and checked (opaque): a scene and the settings of
+ * `strata render`. Calls on it may run on many threads at once.
+ */
+typedef struct StrataRender StrataRender;
+
+/**
  * A pixel sampler (opaque). One thread at a time.
  */
 typedef struct StrataSampler StrataSampler;
@@ -205,6 +211,83 @@ typedef struct StrataAabb {
  * that queries the tree.
  */
 typedef bool (*StrataIntersectFn)(void *user, uint32_t index, const struct StrataRay *ray, float *t);
+
+/**
+ * What a render makes.
+ */
+typedef struct StrataRenderInfo {
+  /**
+   * The image's size.
+   */
+  uint32_t width;
+  /**
+   * The image's size.
+   */
+  uint32_t height;
+  /**
+   * The window rendered (all of the image unless `--crop` or
+   * `--pixel-bounds`): its corner and size.
+   */
+  uint32_t x0;
+  /**
+   * See `x0`.
+   */
+  uint32_t y0;
+  /**
+   * See `x0`.
+   */
+  uint32_t window_width;
+  /**
+   * See `x0`.
+   */
+  uint32_t window_height;
+  /**
+   * Pixels of the film [`strata_render_film`] fills: the window, and
+   * for a splatted filter (negative lobes) its border a side.
+   */
+  uint32_t film_width;
+  /**
+   * See `film_width`.
+   */
+  uint32_t film_height;
+  /**
+   * Samples per pixel (the most, for an adaptive render).
+   */
+  uint32_t spp;
+  /**
+   * The tiles [`strata_render_tile`] renders one at a time.
+   */
+  uint32_t tiles;
+} StrataRenderInfo;
+
+/**
+ * A pixel's exact film sums (the core's `render::PixelSum`): weighted
+ * RGB and weight sums in units of `2⁻²⁴`, the own-sample sums' offset,
+ * and the sample counts. Films add exactly, in any order; the golden
+ * table hashes these ([`strata_film_hash`]), not RGB.
+ */
+typedef struct StrataPixelSum {
+  /**
+   * `Σ w·L` per channel, in units of `2⁻²⁴`.
+   */
+  int64_t sum[3];
+  /**
+   * `Σ w`, in units of `2⁻²⁴`.
+   */
+  int64_t weight;
+  /**
+   * `Σ L − Σ w·L` per channel (wrapping): 0 for weights of 1.
+   */
+  int64_t own_minus_sum[3];
+  /**
+   * Samples summed.
+   */
+  uint32_t samples;
+  /**
+   * Samples dropped for a NaN or infinite channel.
+   */
+  uint32_t dropped;
+} StrataPixelSum;
 
 #ifdef __cplusplus
 extern "C" {
@@ -549,6 +632,101 @@ enum StrataStatus strata_primitive_bvh_any_hit(const struct StrataPrimitiveBvh *
                                                size_t n,
                                                uint8_t *occluded,
                                                size_t occluded_len);
+
+/**
+ * Plans a render from the flags of `strata render` (`flags[0..n]`, for
+ * example `{"--scene", "cover", "--spp", "64", "--width", "400"}`: a
+ * built-in scene or a TOML file, the size, samples, sampler, seed,
+ * filter, depth, window...). Every setting passes the one check the
+ * command line and its checkpoints use; its message comes back from
+ * [`strata_last_error`]. Flags about files and threads are refused (the
+ * calls take buffers and a thread count).
+ *
+ * # Safety
+ * `flags` null (refused unless `n` is 0) or valid for `n` pointers, each
+ * null (refused) or a NUL-terminated string; `out` valid for one
+ * pointer.
+ */
+enum StrataStatus strata_render_new(const char *const *flags, size_t n, struct StrataRender **out);
+
+/**
+ * Frees a render; null is ignored.
+ *
+ * # Safety
+ * `render` null or from [`strata_render_new`], not freed before.
+ */
+void strata_render_free(struct StrataRender *render);
+
+/**
+ * The sizes of a render into `*info`.
+ *
+ * # Safety
+ * `render` a live render; `info` valid for one `StrataRenderInfo`
+ * (nulls refused).
+ */
+enum StrataStatus strata_render_info(const struct StrataRender *render,
+                                     struct StrataRenderInfo *info);
+
+/**
+ * Renders the whole window on `threads` threads (a pool that lives for
+ * this call only) into `film` (`film_width × film_height` pixels,
+ * row-major, of [`strata_render_info`]). The sums are the same for any
+ * thread count.
+ *
+ * # Safety
+ * `render` a live render; `film` valid for `film_len` pixels (nulls
+ * refused).
+ */
+enum StrataStatus strata_render_film(const struct StrataRender *render,
+                                     uint32_t threads,
+                                     struct StrataPixelSum *film,
+                                     size_t film_len);
+
+/**
+ * Renders tile `index` (of [`StrataRenderInfo`]'s `tiles`) on the
+ * calling thread, no pool: for a host renderer that owns its threads
+ * (different tiles may render on different threads at once). The film
+ * of the tile goes to `film`, its corner and size to `tile[0..4]`
+ * (`x0, y0, width, height` in the image) and its film's size to
+ * `film_size[0..2]` (the tile, or for a splatted filter the tile and
+ * its margin a side, which adds into its neighbours). Placed (or
+ * added) into the window's film, the tiles give
+ * [`strata_render_film`]'s sums exactly.
+ *
+ * # Safety
+ * `render` a live render; each array valid for its length (nulls
+ * refused).
+ */
+enum StrataStatus strata_render_tile(const struct StrataRender *render,
+                                     uint32_t index,
+                                     struct StrataPixelSum *film,
+                                     size_t film_len,
+                                     uint32_t *tile,
+                                     size_t tile_len,
+                                     uint32_t *film_size,
+                                     size_t film_size_len);
+
+/**
+ * Each pixel's value from its sums (the filter's weighted mean, as the
+ * runner's images take it), 3 floats a pixel, into `rgb`.
+ *
+ * # Safety
+ * Each array valid for its length (nulls refused unless it is 0).
+ */
+enum StrataStatus strata_film_rgb(const struct StrataPixelSum *film,
+                                  size_t n,
+                                  float *rgb,
+                                  size_t rgb_len);
+
+/**
+ * The golden table's FNV-1a 64 of a film's sums (row-major), into
+ * `*hash`: what `strata verify` and the golden rows compare.
+ *
+ * # Safety
+ * `film` valid for `n` pixels; `hash` for one `uint64_t` (nulls
+ * refused).
+ */
+enum StrataStatus strata_film_hash(const struct StrataPixelSum *film, size_t n, uint64_t *hash);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -29,11 +29,19 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use strata_core::glam::{UVec2, Vec2, Vec3};
 use strata_core::mapping::{self, Cone};
+use strata_core::render::PixelSum;
 use strata_core::trace::{
     Aabb, BVH_MAX_SPHERES, Bvh, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, Primitives, Ray,
     SimdLevel, Sphere, bvh_storage_for, primitive_bvh_storage_for, simd_level,
 };
 use strata_core::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
+use strata_runner::cli::{Cli, Command, RenderArgs};
+use strata_runner::commands::resolve_scene;
+use strata_runner::golden;
+use strata_runner::job::{Job, job_tiles, render_tile_here, run};
+use strata_runner::scenes::SceneData;
+
+use clap::Parser;
 
 /// What a call did. Anything but `STRATA_STATUS_OK` comes with a message
 /// from [`strata_last_error`].
@@ -224,7 +232,40 @@ pub enum StrataSamplerKind {
 
 /// A pixel sampler (opaque). One thread at a time.
 pub struct StrataSampler {
-    inner: Box<dyn Sampler + Send>,
+    inner: AnySampler,
+}
+
+/// A sampler of any kind, as its concrete type: the batch fill runs a
+/// loop compiled per kind (no call through a vtable per value).
+// Its size does not matter: one lives behind each handle's box.
+#[allow(clippy::large_enum_variant)]
+enum AnySampler {
+    Independent(Independent),
+    Grid(UniformGrid),
+    Stratified(Stratified),
+    Sobol(Sobol),
+    Halton(Halton),
+    ZSobol(ZSobol),
+}
+
+/// Runs `$body` with `$s` bound to the concrete sampler.
+macro_rules! with_kind {
+    ($any:expr, $s:ident => $body:expr) => {
+        match $any {
+            AnySampler::Independent($s) => $body,
+            AnySampler::Grid($s) => $body,
+            AnySampler::Stratified($s) => $body,
+            AnySampler::Sobol($s) => $body,
+            AnySampler::Halton($s) => $body,
+            AnySampler::ZSobol($s) => $body,
+        }
+    };
+}
+
+impl AnySampler {
+    fn as_dyn(&mut self) -> &mut dyn Sampler {
+        with_kind!(self, s => s)
+    }
 }
 
 fn make_sampler(
@@ -234,15 +275,18 @@ fn make_sampler(
     width: u32,
     height: u32,
 ) -> Result<StrataSampler, Failure> {
-    fn boxed<S: Sampler + Send + 'static>(s: Option<S>) -> Option<Box<dyn Sampler + Send>> {
-        s.map(|s| Box::new(s) as Box<dyn Sampler + Send>)
-    }
     let (name, made) = match kind {
-        0 => ("independent", boxed(Independent::new(spp, seed))),
-        1 => ("grid", boxed(UniformGrid::new(spp, seed))),
-        2 => ("stratified", boxed(Stratified::new(spp, seed))),
-        3 => ("sobol", boxed(Sobol::new(spp, seed))),
-        4 => ("halton", boxed(Halton::new(spp, seed))),
+        0 => (
+            "independent",
+            Independent::new(spp, seed).map(AnySampler::Independent),
+        ),
+        1 => ("grid", UniformGrid::new(spp, seed).map(AnySampler::Grid)),
+        2 => (
+            "stratified",
+            Stratified::new(spp, seed).map(AnySampler::Stratified),
+        ),
+        3 => ("sobol", Sobol::new(spp, seed).map(AnySampler::Sobol)),
+        4 => ("halton", Halton::new(spp, seed).map(AnySampler::Halton)),
         5 => {
             let z = ZSobol::new(spp, seed, UVec2::new(width, height)).map_err(|e| {
                 failure(
@@ -250,7 +294,7 @@ fn make_sampler(
                     format!("zsobol sampler: {e}"),
                 )
             })?;
-            ("zsobol", boxed(Some(z)))
+            ("zsobol", Some(AnySampler::ZSobol(z)))
         }
         k => {
             return Err(failure(
@@ -322,7 +366,8 @@ unsafe fn sampler<'a>(s: *mut StrataSampler) -> Result<&'a mut StrataSampler, Fa
 /// `out`: values 0 and 1 are the position in the pixel (`pixel_2d`), then
 /// pairs from `next_2d`, and the last from `next_1d` when `dims` is odd
 /// (one dimension: the position's x).
-fn draw(s: &mut dyn Sampler, out: &mut [f32]) {
+#[inline(always)]
+fn draw<S: Sampler + ?Sized>(s: &mut S, out: &mut [f32]) {
     let dims = out.len();
     if dims == 0 {
         return;
@@ -361,7 +406,9 @@ pub unsafe extern "C" fn strata_sampler_start(
     guard(|| {
         // SAFETY: per this function's contract.
         let s = unsafe { sampler(sampler_) }?;
-        s.inner.start_pixel_sample(UVec2::new(px, py), index);
+        s.inner
+            .as_dyn()
+            .start_pixel_sample(UVec2::new(px, py), index);
         Ok(())
     })
 }
@@ -382,7 +429,7 @@ pub unsafe extern "C" fn strata_sampler_pixel_2d(
         // SAFETY: per this function's contract.
         let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
         let out = room(out, 2, "out")?;
-        let p = s.inner.pixel_2d();
+        let p = s.inner.as_dyn().pixel_2d();
         out.copy_from_slice(&[p.x, p.y]);
         Ok(())
     })
@@ -402,7 +449,7 @@ pub unsafe extern "C" fn strata_sampler_next_1d(
         // SAFETY: per this function's contract.
         let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
         let out = room(out, 1, "out")?;
-        out[0] = s.inner.next_1d();
+        out[0] = s.inner.as_dyn().next_1d();
         Ok(())
     })
 }
@@ -421,7 +468,7 @@ pub unsafe extern "C" fn strata_sampler_next_2d(
         // SAFETY: per this function's contract.
         let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
         let out = room(out, 2, "out")?;
-        let v = s.inner.next_2d();
+        let v = s.inner.as_dyn().next_2d();
         out.copy_from_slice(&[v.x, v.y]);
         Ok(())
     })
@@ -475,15 +522,16 @@ pub unsafe extern "C" fn strata_sampler_fill(
         if dims == 0 {
             return Ok(());
         }
-        for ((row, pixel), &index) in out
-            .chunks_exact_mut(dims)
-            .zip(pixels.chunks_exact(2))
-            .zip(indices)
-        {
-            s.inner
-                .start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
-            draw(s.inner.as_mut(), row);
-        }
+        with_kind!(&mut s.inner, s => {
+            for ((row, pixel), &index) in out
+                .chunks_exact_mut(dims)
+                .zip(pixels.chunks_exact(2))
+                .zip(indices)
+            {
+                s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
+                draw(s, row);
+            }
+        });
         Ok(())
     })
 }
@@ -501,7 +549,7 @@ pub unsafe extern "C" fn strata_sampler_spp(
     guard(|| {
         // SAFETY: per this function's contract.
         let (s, out) = unsafe { (sampler(sampler_)?, output(out, 1, "out")?) };
-        out[0] = s.inner.samples_per_pixel();
+        out[0] = s.inner.as_dyn().samples_per_pixel();
         Ok(())
     })
 }
@@ -1394,5 +1442,368 @@ pub unsafe extern "C" fn strata_primitive_bvh_any_hit(
                 u8::from(bvh.any_hit_with(ray, &mut stack))
             })
         }
+    })
+}
+
+// ------------------------------------------------------------ the renderer
+
+/// A pixel's exact film sums (the core's `render::PixelSum`): weighted
+/// RGB and weight sums in units of `2⁻²⁴`, the own-sample sums' offset,
+/// and the sample counts. Films add exactly, in any order; the golden
+/// table hashes these ([`strata_film_hash`]), not RGB.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StrataPixelSum {
+    /// `Σ w·L` per channel, in units of `2⁻²⁴`.
+    pub sum: [i64; 3],
+    /// `Σ w`, in units of `2⁻²⁴`.
+    pub weight: i64,
+    /// `Σ L − Σ w·L` per channel (wrapping): 0 for weights of 1.
+    pub own_minus_sum: [i64; 3],
+    /// Samples summed.
+    pub samples: u32,
+    /// Samples dropped for a NaN or infinite channel.
+    pub dropped: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<StrataPixelSum>() == 64);
+
+fn to_c(p: &PixelSum) -> StrataPixelSum {
+    StrataPixelSum {
+        sum: p.sum,
+        weight: p.weight,
+        own_minus_sum: p.own_minus_sum,
+        samples: p.samples,
+        dropped: p.dropped,
+    }
+}
+
+fn from_c(p: &StrataPixelSum) -> PixelSum {
+    PixelSum {
+        sum: p.sum,
+        weight: p.weight,
+        own_minus_sum: p.own_minus_sum,
+        samples: p.samples,
+        dropped: p.dropped,
+    }
+}
+
+/// A render, planned and checked (opaque): a scene and the settings of
+/// `strata render`. Calls on it may run on many threads at once.
+pub struct StrataRender {
+    args: RenderArgs,
+    scene: SceneData,
+}
+
+impl StrataRender {
+    fn job(&self) -> Result<Job<'_>, Failure> {
+        // Checked at creation; planned again per call (cheap).
+        self.args.job(&self.scene).map_err(invalid)
+    }
+}
+
+/// A runner error as a failure, with its whole chain of causes.
+fn invalid(e: anyhow::Error) -> Failure {
+    failure(StrataStatus::InvalidArgument, format!("{e:#}"))
+}
+
+/// Flags of `strata render` that name files or the run, not the image.
+const NOT_FOR_LIBRARIES: [&str; 9] = [
+    "-o",
+    "--output",
+    "--stats",
+    "--spp-map",
+    "--checkpoint",
+    "--no-checkpoint",
+    "--resume",
+    "--threads",
+    "-j",
+];
+
+/// Plans a render from the flags of `strata render` (`flags[0..n]`, for
+/// example `{"--scene", "cover", "--spp", "64", "--width", "400"}`: a
+/// built-in scene or a TOML file, the size, samples, sampler, seed,
+/// filter, depth, window...). Every setting passes the one check the
+/// command line and its checkpoints use; its message comes back from
+/// [`strata_last_error`]. Flags about files and threads are refused (the
+/// calls take buffers and a thread count).
+///
+/// # Safety
+/// `flags` null (refused unless `n` is 0) or valid for `n` pointers, each
+/// null (refused) or a NUL-terminated string; `out` valid for one
+/// pointer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_render_new(
+    flags: *const *const c_char,
+    n: usize,
+    out: *mut *mut StrataRender,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (flags, out) = unsafe { (input(flags, n, "flags")?, output(out, 1, "out")?) };
+        let mut argv = vec!["strata".to_string(), "render".to_string()];
+        for (i, &f) in flags.iter().enumerate() {
+            if f.is_null() {
+                return Err(null(&format!("flags[{i}]")));
+            }
+            // SAFETY: non-null, NUL-terminated per the contract.
+            let text = unsafe { std::ffi::CStr::from_ptr(f) }
+                .to_str()
+                .map_err(|_| {
+                    failure(
+                        StrataStatus::InvalidArgument,
+                        format!("flags[{i}] is not UTF-8"),
+                    )
+                })?;
+            let name = text.split('=').next().unwrap_or(text);
+            if NOT_FOR_LIBRARIES.contains(&name) {
+                return Err(failure(
+                    StrataStatus::InvalidArgument,
+                    format!(
+                        "{name}: the library renders into your buffers on the threads you give"
+                    ),
+                ));
+            }
+            argv.push(text.to_string());
+        }
+        let args = match Cli::try_parse_from(&argv) {
+            Ok(Cli {
+                command: Some(Command::Render(args)),
+                ..
+            }) => args,
+            Ok(_) => return Err(failure(StrataStatus::InvalidArgument, "not a render")),
+            Err(e) => {
+                // clap's first line says what is wrong; the rest is usage.
+                let text = e.to_string();
+                let first = text.lines().next().unwrap_or("invalid flags");
+                return Err(failure(
+                    StrataStatus::InvalidArgument,
+                    first.trim_start_matches("error: ").to_string(),
+                ));
+            }
+        };
+        let scene = resolve_scene(&args.scene).map_err(invalid)?;
+        let render = StrataRender { args, scene };
+        render.job()?;
+        out[0] = Box::into_raw(Box::new(render));
+        Ok(())
+    })
+}
+
+/// Frees a render; null is ignored.
+///
+/// # Safety
+/// `render` null or from [`strata_render_new`], not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_render_free(render: *mut StrataRender) {
+    if !render.is_null() {
+        // SAFETY: from `Box::into_raw` in `strata_render_new`, freed once.
+        drop(unsafe { Box::from_raw(render) });
+    }
+}
+
+/// What a render makes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StrataRenderInfo {
+    /// The image's size.
+    pub width: u32,
+    /// The image's size.
+    pub height: u32,
+    /// The window rendered (all of the image unless `--crop` or
+    /// `--pixel-bounds`): its corner and size.
+    pub x0: u32,
+    /// See `x0`.
+    pub y0: u32,
+    /// See `x0`.
+    pub window_width: u32,
+    /// See `x0`.
+    pub window_height: u32,
+    /// Pixels of the film [`strata_render_film`] fills: the window, and
+    /// for a splatted filter (negative lobes) its border a side.
+    pub film_width: u32,
+    /// See `film_width`.
+    pub film_height: u32,
+    /// Samples per pixel (the most, for an adaptive render).
+    pub spp: u32,
+    /// The tiles [`strata_render_tile`] renders one at a time.
+    pub tiles: u32,
+}
+
+/// The sizes of a render into `*info`.
+///
+/// # Safety
+/// `render` a live render; `info` valid for one `StrataRenderInfo`
+/// (nulls refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_render_info(
+    render: *const StrataRender,
+    info: *mut StrataRenderInfo,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (render, info) = unsafe { (handle(render, "render")?, output(info, 1, "info")?) };
+        let job = render.job()?;
+        let w = job.window;
+        let film = job.layout().extent(w, job.width, job.height);
+        let tiles = u32::try_from(job_tiles(&job).len())
+            .map_err(|_| failure(StrataStatus::InvalidArgument, "too many tiles"))?;
+        info[0] = StrataRenderInfo {
+            width: job.width,
+            height: job.height,
+            x0: w.x0,
+            y0: w.y0,
+            window_width: w.width,
+            window_height: w.height,
+            film_width: film.width,
+            film_height: film.height,
+            spp: job.spp,
+            tiles,
+        };
+        Ok(())
+    })
+}
+
+/// Renders the whole window on `threads` threads (a pool that lives for
+/// this call only) into `film` (`film_width × film_height` pixels,
+/// row-major, of [`strata_render_info`]). The sums are the same for any
+/// thread count.
+///
+/// # Safety
+/// `render` a live render; `film` valid for `film_len` pixels (nulls
+/// refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_render_film(
+    render: *const StrataRender,
+    threads: u32,
+    film: *mut StrataPixelSum,
+    film_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (render, film) =
+            unsafe { (handle(render, "render")?, output(film, film_len, "film")?) };
+        let mut args = render.args.clone();
+        // Past u16 is past the check's limit anyway: saturate into it.
+        args.threads = u16::try_from(threads).unwrap_or(u16::MAX);
+        // The thread count passes the same check as the command line's.
+        let job = args.job(&render.scene).map_err(invalid)?;
+        let need = job
+            .layout()
+            .extent(job.window, job.width, job.height)
+            .area();
+        let film = room(film, need, "film")?;
+        let done = run(&job, &|_| {}).map_err(invalid)?;
+        for (o, p) in film.iter_mut().zip(&done.pixels) {
+            *o = to_c(p);
+        }
+        Ok(())
+    })
+}
+
+/// Renders tile `index` (of [`StrataRenderInfo`]'s `tiles`) on the
+/// calling thread, no pool: for a host renderer that owns its threads
+/// (different tiles may render on different threads at once). The film
+/// of the tile goes to `film`, its corner and size to `tile[0..4]`
+/// (`x0, y0, width, height` in the image) and its film's size to
+/// `film_size[0..2]` (the tile, or for a splatted filter the tile and
+/// its margin a side, which adds into its neighbours). Placed (or
+/// added) into the window's film, the tiles give
+/// [`strata_render_film`]'s sums exactly.
+///
+/// # Safety
+/// `render` a live render; each array valid for its length (nulls
+/// refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_render_tile(
+    render: *const StrataRender,
+    index: u32,
+    film: *mut StrataPixelSum,
+    film_len: usize,
+    tile: *mut u32,
+    tile_len: usize,
+    film_size: *mut u32,
+    film_size_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (render, film, tile_out, size_out) = unsafe {
+            (
+                handle(render, "render")?,
+                output(film, film_len, "film")?,
+                output(tile, tile_len, "tile")?,
+                output(film_size, film_size_len, "film_size")?,
+            )
+        };
+        let job = render.job()?;
+        let t = *job_tiles(&job).get(index as usize).ok_or_else(|| {
+            failure(
+                StrataStatus::InvalidArgument,
+                format!(
+                    "tile {index}: the render has {} tiles",
+                    job_tiles(&job).len()
+                ),
+            )
+        })?;
+        let (fw, fh) = job.layout().film_size(t).ok_or_else(|| {
+            failure(
+                StrataStatus::InvalidArgument,
+                "the tile's film is too large",
+            )
+        })?;
+        let film = room(film, fw as usize * fh as usize, "film")?;
+        let tile_out = room(tile_out, 4, "tile")?;
+        let size_out = room(size_out, 2, "film_size")?;
+        let (_, sums, _) = render_tile_here(&job, index as usize).map_err(invalid)?;
+        for (o, p) in film.iter_mut().zip(&sums) {
+            *o = to_c(p);
+        }
+        tile_out.copy_from_slice(&[t.x0, t.y0, t.width, t.height]);
+        size_out.copy_from_slice(&[fw, fh]);
+        Ok(())
+    })
+}
+
+/// Each pixel's value from its sums (the filter's weighted mean, as the
+/// runner's images take it), 3 floats a pixel, into `rgb`.
+///
+/// # Safety
+/// Each array valid for its length (nulls refused unless it is 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_film_rgb(
+    film: *const StrataPixelSum,
+    n: usize,
+    rgb: *mut f32,
+    rgb_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (film, rgb) = unsafe { (input(film, n, "film")?, output(rgb, rgb_len, "rgb")?) };
+        let rgb = room(rgb, times(n, 3, "rgb")?, "rgb")?;
+        for (p, o) in film.iter().zip(rgb.chunks_exact_mut(3)) {
+            o.copy_from_slice(&from_c(p).mean().to_array());
+        }
+        Ok(())
+    })
+}
+
+/// The golden table's FNV-1a 64 of a film's sums (row-major), into
+/// `*hash`: what `strata verify` and the golden rows compare.
+///
+/// # Safety
+/// `film` valid for `n` pixels; `hash` for one `uint64_t` (nulls
+/// refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_film_hash(
+    film: *const StrataPixelSum,
+    n: usize,
+    hash: *mut u64,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (film, hash) = unsafe { (input(film, n, "film")?, output(hash, 1, "hash")?) };
+        let sums: Vec<PixelSum> = film.iter().map(from_c).collect();
+        hash[0] = golden::film_hash(&sums);
+        Ok(())
     })
 }

@@ -3,7 +3,7 @@
  * short buffer, an unknown kind or an out-of-range value returns its
  * error code and a message, never a crash.
  *
- * usage: locks LOCKS_JSON EXPECTED_SIMD_LEVEL
+ * usage: locks LOCKS_JSON GOLDEN_JSON EXPECTED_SIMD_LEVEL
  * (the reference sphere lists are read beside LOCKS_JSON)
  */
 #define _POSIX_C_SOURCE 200809L
@@ -624,20 +624,133 @@ static void bvh_bad_input(void) {
   free(storage);
 }
 
+/* ---------------------------------------------------------- the renderer */
+
+/* The quoted strings of the array at `key`, up to `max`; their count. */
+static int read_strings(const char *json, const char *key, char out[][64], int max) {
+  const char *p = after_key(json, key);
+  int n = 0;
+  if (!p || !(p = strchr(p, '['))) return 0;
+  while (n < max) {
+    const char *a = strchr(p, '"'), *close = strchr(p, ']'), *b;
+    if (!a || (close && close < a)) break;
+    b = strchr(a + 1, '"');
+    if (!b || b - a - 1 >= 64) break;
+    memcpy(out[n], a + 1, (size_t)(b - a - 1));
+    out[n][b - a - 1] = '\0';
+    n++;
+    p = b + 1;
+  }
+  return n;
+}
+
+/* A golden render through the C API: the whole frame on 2 threads, and
+ * again tile by tile on this thread; both hash to the golden row. */
+static void golden_row(const char *golden, const char *scene, const char *sampler) {
+  char flags[16][64], key[128];
+  const char *argv[24];
+  int n = read_strings(golden, "flags", flags, 16), k;
+  StrataRender *render = NULL;
+  StrataRenderInfo info;
+  StrataPixelSum *film, *placed, *tile_film;
+  uint64_t want = 0, whole = 0, tiled = 0;
+  uint32_t t;
+  CHECK(n == 10, "golden flags: %d read", n);
+  for (k = 0; k < n; k++) argv[k] = flags[k];
+  argv[n++] = "--scene";
+  argv[n++] = scene;
+  argv[n++] = "--sampler";
+  argv[n++] = sampler;
+  argv[n++] = "--tile"; /* several tiles (the size never changes a pixel) */
+  argv[n++] = "8";
+  snprintf(key, sizeof key, "%s/%s", scene, sampler);
+  CHECK(read_hex(golden, key, &want), "%s: not in the golden file", key);
+  ok(strata_render_new(argv, (size_t)n, &render), key);
+  if (!render) return;
+  ok(strata_render_info(render, &info), "info");
+  CHECK(info.width == 32 && info.height == 18 && info.spp == 4 && info.film_width == 32 && info.tiles > 1,
+        "%s: %ux%u, %u spp, film %u wide, %u tiles", key, info.width, info.height, info.spp, info.film_width,
+        info.tiles);
+  film = calloc((size_t)info.film_width * info.film_height, sizeof *film);
+  placed = calloc((size_t)info.film_width * info.film_height, sizeof *placed);
+  tile_film = calloc((size_t)info.film_width * info.film_height, sizeof *tile_film);
+  ok(strata_render_film(render, 2, film, (size_t)info.film_width * info.film_height), "film");
+  ok(strata_film_hash(film, (size_t)info.film_width * info.film_height, &whole), "hash");
+  CHECK(whole == want, "%s on 2 threads: %016llx, golden %016llx", key, (unsigned long long)whole,
+        (unsigned long long)want);
+  /* Tile by tile on this thread, placed into the window's film. */
+  for (t = 0; t < info.tiles; t++) {
+    uint32_t rect[4], size[2], row;
+    ok(strata_render_tile(render, t, tile_film, (size_t)info.film_width * info.film_height, rect, 4, size, 2),
+       "tile");
+    CHECK(size[0] == rect[2] && size[1] == rect[3], "a box-filter tile's film is the tile");
+    for (row = 0; row < rect[3]; row++)
+      memcpy(placed + (size_t)(rect[1] - info.y0 + row) * info.film_width + (rect[0] - info.x0),
+             tile_film + (size_t)row * size[0], size[0] * sizeof *placed);
+  }
+  ok(strata_film_hash(placed, (size_t)info.film_width * info.film_height, &tiled), "hash");
+  CHECK(tiled == want, "%s tile by tile: %016llx, golden %016llx", key, (unsigned long long)tiled,
+        (unsigned long long)want);
+  {
+    float rgb[3];
+    ok(strata_film_rgb(film, 1, rgb, 3), "rgb");
+    CHECK(rgb[0] >= 0.0f && rgb[0] < 100.0f && rgb[1] >= 0.0f && rgb[2] >= 0.0f, "%s: pixel 0 %g %g %g", key,
+          rgb[0], rgb[1], rgb[2]);
+  }
+  free(film);
+  free(placed);
+  free(tile_film);
+  strata_render_free(render);
+}
+
+static void renderer(const char *golden) {
+  const char *bad_spp[] = {"--scene", "week09", "--spp", "0"};
+  const char *unknown[] = {"--scene", "no-such-scene"};
+  const char *output[] = {"--scene", "week09", "-o", "x.png"};
+  const char *typo[] = {"--scene", "week09", "--spp", "many"};
+  const char *small[] = {"--scene", "week09", "--width", "8", "--height", "4", "--spp", "1"};
+  const char *null_flag[] = {"--scene", NULL};
+  StrataRender *render = NULL;
+  StrataPixelSum film[32];
+  uint32_t rect[4], size[2];
+  golden_row(golden, "week09", "sobol");
+  golden_row(golden, "cover", "independent");
+  golden_row(golden, "showcase", "zsobol");
+
+  expect(strata_render_new(bad_spp, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "--spp 0");
+  CHECK(strstr(strata_last_error(), "--spp 0") != NULL, "the check's message: %s", strata_last_error());
+  expect(strata_render_new(unknown, 2, &render), STRATA_STATUS_INVALID_ARGUMENT, "unknown scene");
+  expect(strata_render_new(output, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "-o");
+  expect(strata_render_new(typo, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "--spp many");
+  expect(strata_render_new(null_flag, 2, &render), STRATA_STATUS_NULL_POINTER, "null flag");
+  expect(strata_render_new(NULL, 2, &render), STRATA_STATUS_NULL_POINTER, "null flags");
+  ok(strata_render_new(small, 8, &render), "small render");
+  expect(strata_render_film(render, 0, film, 32), STRATA_STATUS_INVALID_ARGUMENT, "0 threads");
+  expect(strata_render_film(render, 100000, film, 32), STRATA_STATUS_INVALID_ARGUMENT, "100000 threads");
+  expect(strata_render_film(render, 1, film, 31), STRATA_STATUS_SHORT_BUFFER, "short film");
+  expect(strata_render_tile(render, 99, film, 32, rect, 4, size, 2), STRATA_STATUS_INVALID_ARGUMENT,
+         "no such tile");
+  expect(strata_render_tile(render, 0, film, 32, rect, 3, size, 2), STRATA_STATUS_SHORT_BUFFER, "short rect");
+  expect(strata_render_info(NULL, NULL), STRATA_STATUS_NULL_POINTER, "null render");
+  strata_render_free(render);
+  strata_render_free(NULL);
+}
+
 int main(int argc, char **argv) {
-  char *json;
+  char *json, *golden;
   const char *level = strata_simd_level();
-  if (argc != 3) {
-    fprintf(stderr, "usage: %s LOCKS_JSON EXPECTED_SIMD_LEVEL\n", argv[0]);
+  if (argc != 4) {
+    fprintf(stderr, "usage: %s LOCKS_JSON GOLDEN_JSON EXPECTED_SIMD_LEVEL\n", argv[0]);
     return 2;
   }
   json = read_file(argv[1]);
-  if (!json) {
-    fprintf(stderr, "cannot read %s\n", argv[1]);
+  golden = read_file(argv[2]);
+  if (!json || !golden) {
+    fprintf(stderr, "cannot read %s or %s\n", argv[1], argv[2]);
     return 2;
   }
   printf("strata %s, output revision %u, simd %s\n", strata_version(), strata_output_revision(), level);
-  CHECK(strcmp(level, argv[2]) == 0, "simd level %s, expected %s", level, argv[2]);
+  CHECK(strcmp(level, argv[3]) == 0, "simd level %s, expected %s", level, argv[3]);
   CHECK(strata_output_revision() > 0, "output revision");
   sampler_locks(json);
   mapping_locks(json);
@@ -652,7 +765,9 @@ int main(int argc, char **argv) {
   primitive_bvh();
   bad_input();
   bvh_bad_input();
+  renderer(golden);
   free(json);
+  free(golden);
   if (failures) {
     fprintf(stderr, "%d failures\n", failures);
     return 1;

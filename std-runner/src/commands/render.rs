@@ -397,6 +397,33 @@ impl RenderArgs {
     /// user meets: the size, the sample counts, the window, the filter,
     /// the files.
     fn plan<'a>(&self, scene: &'a SceneData) -> Result<RenderPlan<'a>> {
+        let mut job = self.job(scene)?;
+        let output = self.output_files(&scene.name)?;
+        let checkpoint = self.checkpoint_file(&output)?;
+        let (width, height, window) = (job.width, job.height, job.window);
+        let mut image_window = None;
+        let layout = job.layout();
+        if layout.splats() && !is_film_path(&output) && window != Tile::whole(width, height) {
+            job.window = layout.extent(window, width, height);
+            image_window = Some(window);
+        }
+        Ok(RenderPlan {
+            job,
+            output,
+            gamma: self.gamma,
+            spp_map: self.spp_map.clone(),
+            stats: self.stats.clone(),
+            checkpoint,
+            image_window,
+        })
+    }
+
+    /// The render these settings make of `scene`, checked (the one check
+    /// of [`RenderArgs::validate`], then everything that needs the
+    /// scene: its default size, the window inside the image, the samples
+    /// within spp, the filter), files aside: what `strata render` plans,
+    /// and what the C API renders.
+    pub fn job<'a>(&self, scene: &'a SceneData) -> Result<Job<'a>> {
         self.validate()?;
         let d = scene.defaults;
         let width = self.width.unwrap_or(d.width);
@@ -430,9 +457,7 @@ impl RenderArgs {
                 samples.end
             );
         }
-        let output = self.output_files(&scene.name)?;
-        let checkpoint = self.checkpoint_file(&output)?;
-        let mut job = Job {
+        Ok(Job {
             window,
             samples,
             max_depth: self.max_depth.unwrap_or(d.max_depth),
@@ -446,21 +471,6 @@ impl RenderArgs {
             adaptive,
             texture_filter: self.texture_filter.filter(),
             ..Job::new(scene, width, height, spp)
-        };
-        let mut image_window = None;
-        let layout = job.layout();
-        if layout.splats() && !is_film_path(&output) && window != Tile::whole(width, height) {
-            job.window = layout.extent(window, width, height);
-            image_window = Some(window);
-        }
-        Ok(RenderPlan {
-            job,
-            output,
-            gamma: self.gamma,
-            spp_map: self.spp_map.clone(),
-            stats: self.stats.clone(),
-            checkpoint,
-            image_window,
         })
     }
 
