@@ -4,7 +4,9 @@
 //! called through their Rust declarations: the same machine code a C
 //! caller reaches through the library.
 //!
-//! `cargo bench -p strata-c` (add `-- --quick` for one short round).
+//! `cargo bench -p strata-c` (add `-- --quick` for one short round, or
+//! `-- --once rust` / `-- --once c` to run one side once, untimed, under
+//! an instruction counter).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -34,6 +36,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Times `a` (Rust) and `b` (C) in turns; prints rates and the ratio.
+/// With `--once rust` or `--once c` it runs that side once and times
+/// nothing: for instruction counters (callgrind).
 fn compare(
     name: &str,
     unit: &str,
@@ -43,6 +47,24 @@ fn compare(
     mut a: impl FnMut(),
     mut b: impl FnMut(),
 ) {
+    let args: Vec<String> = std::env::args().collect();
+    // `--part sampler` or `--part BVH`: only the comparison so named.
+    if let Some(i) = args.iter().position(|a| a == "--part")
+        && !args
+            .get(i + 1)
+            .is_some_and(|p| name.starts_with(p.as_str()))
+    {
+        return;
+    }
+    if let Some(i) = args.iter().position(|a| a == "--once") {
+        match args.get(i + 1).map(String::as_str) {
+            Some("rust") => a(),
+            Some("c") => b(),
+            Some("none") => {}
+            _ => panic!("--once rust|c|none"),
+        }
+        return;
+    }
     let (mut ta, mut tb, mut ratio) = (vec![], vec![], vec![]);
     for _ in 0..rounds {
         let x = time(min, &mut a);

@@ -368,26 +368,66 @@ unsafe fn sampler<'a>(s: *mut StrataSampler) -> Result<&'a mut StrataSampler, Fa
 /// (one dimension: the position's x).
 #[inline(always)]
 fn draw<S: Sampler + ?Sized>(s: &mut S, out: &mut [f32]) {
-    let dims = out.len();
-    if dims == 0 {
+    let Some((first, rest)) = out.split_first_mut() else {
         return;
-    }
+    };
     let p = s.pixel_2d();
-    out[0] = p.x;
-    if dims == 1 {
+    *first = p.x;
+    let Some((second, rest)) = rest.split_first_mut() else {
         return;
-    }
-    out[1] = p.y;
-    let mut k = 2;
-    while k + 1 < dims {
+    };
+    *second = p.y;
+    let mut pairs = rest.chunks_exact_mut(2);
+    for pair in &mut pairs {
         let v = s.next_2d();
-        out[k] = v.x;
-        out[k + 1] = v.y;
-        k += 2;
+        pair[0] = v.x;
+        pair[1] = v.y;
     }
-    if k < dims {
-        out[k] = s.next_1d();
+    if let [last] = pairs.into_remainder() {
+        *last = s.next_1d();
     }
+}
+
+/// Rows of `D` values: the row's length known to the compiler, so its
+/// loop unrolls.
+#[inline(always)]
+fn rows_of<S: Sampler, const D: usize>(
+    s: &mut S,
+    pixels: &[u32],
+    indices: &[u32],
+    out: &mut [f32],
+) {
+    for ((row, pixel), &index) in out
+        .chunks_exact_mut(D)
+        .zip(pixels.chunks_exact(2))
+        .zip(indices)
+    {
+        s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
+        draw(s, row);
+    }
+}
+
+/// The batch fill for one sampler kind: rows of up to 16 values by a
+/// loop compiled for their length, longer rows by the general loop.
+fn fill_rows<S: Sampler>(s: &mut S, pixels: &[u32], indices: &[u32], dims: usize, out: &mut [f32]) {
+    macro_rules! by_length {
+        ($($d:literal)*) => {
+            match dims {
+                $($d => rows_of::<S, $d>(s, pixels, indices, out),)*
+                _ => {
+                    for ((row, pixel), &index) in out
+                        .chunks_exact_mut(dims)
+                        .zip(pixels.chunks_exact(2))
+                        .zip(indices)
+                    {
+                        s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
+                        draw(s, row);
+                    }
+                }
+            }
+        };
+    }
+    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
 }
 
 /// Begins sample `index` of pixel `(px, py)`: the dimension goes back to
@@ -522,16 +562,7 @@ pub unsafe extern "C" fn strata_sampler_fill(
         if dims == 0 {
             return Ok(());
         }
-        with_kind!(&mut s.inner, s => {
-            for ((row, pixel), &index) in out
-                .chunks_exact_mut(dims)
-                .zip(pixels.chunks_exact(2))
-                .zip(indices)
-            {
-                s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
-                draw(s, row);
-            }
-        });
+        with_kind!(&mut s.inner, s => fill_rows(s, pixels, indices, dims, out));
         Ok(())
     })
 }
@@ -949,15 +980,29 @@ const MISS: StrataHit = StrataHit {
     id: u32::MAX,
 };
 
-/// The core's ray for ray `i`, checked.
-fn ray_of(r: &StrataRay, i: usize) -> Result<Ray, Failure> {
-    let bad = |why: &str| failure(StrataStatus::InvalidArgument, format!("rays[{i}]: {why}"));
-    let ray = Ray::try_new(r.origin, r.dir)
-        .ok_or_else(|| bad("the origin is not finite or the direction not unit length"))?;
-    if r.t_min.is_nan() || r.t_max.is_nan() {
-        return Err(bad("t_min or t_max is NaN"));
-    }
-    Ok(ray.with_range(r.t_min, r.t_max))
+/// The core's ray, if `r` is one (see [`StrataRay`]): `Ray::try_new`'s
+/// rule (a unit direction, which rules out infinite and NaN ones; a
+/// finite origin) and no NaN bound, tested without branches (a batch
+/// pays a few instructions a ray for it).
+#[inline(always)]
+fn checked_ray(r: &StrataRay) -> Option<Ray> {
+    let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
+    let unit = (d.dot(d) - 1.0).abs() <= 16.0 * f32::EPSILON;
+    // 0 · x is 0 for a finite x and NaN for an infinite or NaN one.
+    let finite = (o * 0.0).dot(Vec3::ONE) == 0.0;
+    let bounds = !r.t_min.is_nan() & !r.t_max.is_nan();
+    (unit & finite & bounds).then(|| Ray::new(o, d).with_range(r.t_min, r.t_max))
+}
+
+/// Why ray `i` was refused.
+#[cold]
+fn bad_ray(r: &StrataRay, i: usize) -> Failure {
+    let why = if r.t_min.is_nan() || r.t_max.is_nan() {
+        "t_min or t_max is NaN"
+    } else {
+        "the origin is not finite or the direction not unit length"
+    };
+    failure(StrataStatus::InvalidArgument, format!("rays[{i}]: {why}"))
 }
 
 /// The alignment, in bytes, of the storage every BVH call takes.
@@ -1159,7 +1204,10 @@ unsafe fn over_rays<T>(
     let (rays, out) = unsafe { (input(rays, n, "rays")?, output(out, out_len, "out")?) };
     let out = room(out, n, "out")?;
     for (i, (r, o)) in rays.iter().zip(out).enumerate() {
-        *o = query(&ray_of(r, i)?);
+        let Some(ray) = checked_ray(r) else {
+            return Err(bad_ray(r, i));
+        };
+        *o = query(&ray);
     }
     Ok(())
 }
