@@ -73,4 +73,9 @@ cpp_hash=$(memcheck "$out/render_cpp" "$out/render_cpp.ppm")
 echo "C: $c_hash, C++: $cpp_hash"
 [[ -n "$c_hash" && "$c_hash" == "$cpp_hash" ]]
 cmp "$out/render_c.ppm" "$out/render_cpp.ppm"
+# The C++ side renders a golden row through the renderer API too.
+golden=$(memcheck --show-possibly-lost=no "$out/render_cpp" --golden-week09-sobol)
+want=$(grep '"week09/sobol"' std-runner/tests/data/golden.json | sed 's/.*"0x\([0-9a-f]*\)".*/\1/')
+echo "C++ golden week09/sobol: $golden (row: $want)"
+[[ -n "$want" && "$golden" == "$want" ]]
 echo "C API: all tests passed"

@@ -3,6 +3,7 @@
 // the same image, bit for bit (both print its FNV-1a hash).
 //
 // usage: render_cpp OUT.ppm
+//        render_cpp --golden-week09-sobol   (prints a golden row's hash)
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -179,9 +180,36 @@ int run(const char *path) {
 
 }  // namespace
 
+// Strata's own renderer from C++: the golden render of week09 with the
+// Sobol' sampler (the flags of std-runner/tests/data/golden.json), its
+// film hash printed for the test to compare with the golden row.
+uint64_t golden_week09() {
+  const char *flags[] = {"--scene", "week09", "--sampler", "sobol", "--width", "32", "--height", "18",
+                         "--spp",   "4",      "--seed",    "5",     "--max-depth", "8"};
+  StrataRender *raw = nullptr;
+  strata::check(strata_render_new(flags, sizeof flags / sizeof flags[0], &raw), "render");
+  std::unique_ptr<StrataRender, void (*)(StrataRender *)> render(raw, strata_render_free);
+  StrataRenderInfo info{};
+  strata::check(strata_render_info(render.get(), &info), "info");
+  std::vector<StrataPixelSum> film(static_cast<size_t>(info.film_width) * info.film_height);
+  strata::check(strata_render_film(render.get(), 2, film.data(), film.size()), "film");
+  uint64_t hash = 0;
+  strata::check(strata_film_hash(film.data(), film.size(), &hash), "hash");
+  return hash;
+}
+
 int main(int argc, char **argv) {
+  if (argc == 2 && std::strcmp(argv[1], "--golden-week09-sobol") == 0) {
+    try {
+      std::printf("%016llx\n", static_cast<unsigned long long>(golden_week09()));
+      return 0;
+    } catch (const std::exception &e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
+  }
   if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUT.ppm\n", argv[0]);
+    std::fprintf(stderr, "usage: %s OUT.ppm | --golden-week09-sobol\n", argv[0]);
     return 2;
   }
   try {
