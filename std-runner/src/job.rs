@@ -252,6 +252,36 @@ pub fn job_tiles(job: &Job<'_>) -> Vec<Tile> {
     tiles(job.window, tile_side(job))
 }
 
+/// The number of the job's tiles, without listing them.
+#[must_use]
+pub fn tile_count(job: &Job<'_>) -> usize {
+    let side = tile_side(job) as usize;
+    let w = job.window;
+    (w.width as usize).div_ceil(side) * (w.height as usize).div_ceil(side)
+}
+
+/// Tile `index` of [`job_tiles`], computed without listing them (a
+/// single-tile call costs the same for any number of tiles).
+#[must_use]
+pub fn job_tile(job: &Job<'_>, index: usize) -> Option<Tile> {
+    let side = tile_side(job);
+    let w = job.window;
+    let across = w.width.div_ceil(side) as usize;
+    if index >= tile_count(job) {
+        return None;
+    }
+    let (dx, dy) = (
+        (index % across) as u32 * side,
+        (index / across) as u32 * side,
+    );
+    Some(Tile {
+        x0: w.x0 + dx,
+        y0: w.y0 + dy,
+        width: side.min(w.width - dx),
+        height: side.min(w.height - dy),
+    })
+}
+
 /// The length of a tile's film in `job`: the tile, or for a splatted
 /// filter the tile and its margin a side.
 pub fn tile_film_len(job: &Job<'_>, tile: Tile) -> Result<usize> {
@@ -338,10 +368,6 @@ fn resumable(
     let w = job.window;
     let (camera, settings) = prepare(job)?;
     let layout = job.layout();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(job.threads)
-        .build()
-        .context("cannot start the worker threads")?;
     let all = job_tiles(job);
     let mut skip = vec![false; all.len()];
     for (i, _, _) in &resume.done {
@@ -351,21 +377,31 @@ fn resumable(
         }
     }
     let start = Instant::now();
-    let new = data.with_scene_bvh(job.bvh, |scene| {
-        pool.install(|| {
-            render_tiles(RenderAll {
-                job,
-                scene,
-                camera: &camera,
-                settings: &settings,
-                progress,
-                tiles: &all,
-                skip: &skip,
-                on_tile: resume.on_tile,
-                stop: resume.stop,
-            })
-        })
-    })??;
+    // A scoped pool: its threads have ended when the render returns (a
+    // library caller may unload the code right after).
+    let new = rayon::ThreadPoolBuilder::new()
+        .num_threads(job.threads)
+        .build_scoped(
+            |thread| thread.run(),
+            |pool| {
+                data.with_scene_bvh(job.bvh, |scene| {
+                    pool.install(|| {
+                        render_tiles(RenderAll {
+                            job,
+                            scene,
+                            camera: &camera,
+                            settings: &settings,
+                            progress,
+                            tiles: &all,
+                            skip: &skip,
+                            on_tile: resume.on_tile,
+                            stop: resume.stop,
+                        })
+                    })
+                })
+            },
+        )
+        .context("cannot start the worker threads")???;
     let wall = start.elapsed();
     let mut run_stats = TileStats::default();
     for (_, _, s) in &new {
@@ -570,10 +606,8 @@ fn tile_film<S: Sampler + Clone>(
 /// has [`run`]'s pixels. The scene's structures are built for the call
 /// (for the cover's 485 spheres, well under a millisecond).
 pub fn render_tile_here(job: &Job<'_>, index: usize) -> Result<TileFilm> {
-    let all = job_tiles(job);
-    let &tile = all
-        .get(index)
-        .ok_or_else(|| anyhow!("tile {index}: the render has {} tiles", all.len()))?;
+    let tile = job_tile(job, index)
+        .ok_or_else(|| anyhow!("tile {index}: the render has {} tiles", tile_count(job)))?;
     let (camera, settings) = prepare(job)?;
     struct One<'a, 's> {
         job: &'a Job<'a>,

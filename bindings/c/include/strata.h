@@ -134,7 +134,8 @@ typedef enum StrataOnb {
 typedef struct StrataBvh StrataBvh;
 
 /**
- * A BVH over the caller's primitives (opaque).
+ * A BVH over the caller's primitives (opaque). Queries from several
+ * threads at once are safe when the intersection routine is.
  */
 typedef struct StrataPrimitiveBvh StrataPrimitiveBvh;
 
@@ -204,13 +205,15 @@ typedef struct StrataAabb {
 } StrataAabb;
 
 /**
- * The caller's intersection routine: whether `ray` hits primitive
- * `index` in `(t_min, t_max)`, and if so its `t` in `*t`. `user` is the
- * pointer given to the build. It must be a pure function of its
- * arguments while the tree is used, and may be called from any thread
- * that queries the tree.
+ * The caller's intersection routine: nonzero if `ray` hits primitive
+ * `index` in `(t_min, t_max)`, with its `t` in `*t`; 0 if not. `user` is
+ * the pointer given to the build. It must be a pure function of its
+ * arguments while the tree is used; it runs on the thread that queries
+ * the tree, so when several threads query one tree at once it runs on
+ * all of them at once. It must not throw a C++ exception or `longjmp`
+ * out (an exception that reaches Strata aborts the process).
  */
-typedef bool (*StrataIntersectFn)(void *user, uint32_t index, const struct StrataRay *ray, float *t);
+typedef int (*StrataIntersectFn)(void *user, uint32_t index, const struct StrataRay *ray, float *t);
 
 /**
  * What a render makes.
@@ -255,7 +258,9 @@ typedef struct StrataRenderInfo {
    */
   uint32_t spp;
   /**
-   * The tiles [`strata_render_tile`] renders one at a time.
+   * The number of tiles, each rendered by one [`strata_render_tile`]
+   * call (calls for different tiles may run on different threads at
+   * once).
    */
   uint32_t tiles;
 } StrataRenderInfo;
@@ -352,7 +357,7 @@ void strata_sampler_free(struct StrataSampler *sampler);
  * `sampler` must be null (refused) or a live sampler no other thread
  * uses during the call.
  */
-enum StrataStatus strata_sampler_start(struct StrataSampler *sampler_,
+enum StrataStatus strata_sampler_start(struct StrataSampler *sampler,
                                        uint32_t px,
                                        uint32_t py,
                                        uint32_t index);
@@ -365,7 +370,7 @@ enum StrataStatus strata_sampler_start(struct StrataSampler *sampler_,
  * `sampler` as in [`strata_sampler_start`]; `out` null (refused) or
  * valid for `out_len` floats.
  */
-enum StrataStatus strata_sampler_pixel_2d(struct StrataSampler *sampler_,
+enum StrataStatus strata_sampler_pixel_2d(struct StrataSampler *sampler,
                                           float *out,
                                           size_t out_len);
 
@@ -375,9 +380,7 @@ enum StrataStatus strata_sampler_pixel_2d(struct StrataSampler *sampler_,
  * # Safety
  * As [`strata_sampler_pixel_2d`].
  */
-enum StrataStatus strata_sampler_next_1d(struct StrataSampler *sampler_,
-                                         float *out,
-                                         size_t out_len);
+enum StrataStatus strata_sampler_next_1d(struct StrataSampler *sampler, float *out, size_t out_len);
 
 /**
  * The next two dimensions, in `[0, 1)²`, into `out[0..2]`.
@@ -385,9 +388,7 @@ enum StrataStatus strata_sampler_next_1d(struct StrataSampler *sampler_,
  * # Safety
  * As [`strata_sampler_pixel_2d`].
  */
-enum StrataStatus strata_sampler_next_2d(struct StrataSampler *sampler_,
-                                         float *out,
-                                         size_t out_len);
+enum StrataStatus strata_sampler_next_2d(struct StrataSampler *sampler, float *out, size_t out_len);
 
 /**
  * Fills `out` with the first `dims` dimensions of many pixel samples,
@@ -402,7 +403,7 @@ enum StrataStatus strata_sampler_next_2d(struct StrataSampler *sampler_,
  * `sampler` as in [`strata_sampler_start`]; each array null (refused
  * unless its length is 0) or valid for its length.
  */
-enum StrataStatus strata_sampler_fill(struct StrataSampler *sampler_,
+enum StrataStatus strata_sampler_fill(struct StrataSampler *sampler,
                                       const uint32_t *pixels,
                                       size_t pixels_len,
                                       const uint32_t *indices,
@@ -418,7 +419,7 @@ enum StrataStatus strata_sampler_fill(struct StrataSampler *sampler_,
  * `sampler` as in [`strata_sampler_start`]; `out` null (refused) or
  * valid for one `uint32_t`.
  */
-enum StrataStatus strata_sampler_spp(struct StrataSampler *sampler_, uint32_t *out);
+enum StrataStatus strata_sampler_spp(const struct StrataSampler *sampler, uint32_t *out);
 
 /**
  * Maps each sample row of `u` (2 floats, 3 for the ball) to its point

@@ -38,10 +38,8 @@ use strata_core::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformG
 use strata_runner::cli::{Cli, Command, RenderArgs};
 use strata_runner::commands::resolve_scene;
 use strata_runner::golden;
-use strata_runner::job::{Job, job_tiles, render_tile_here, run};
+use strata_runner::job::{Job, job_tile, render_tile_here, run, tile_count};
 use strata_runner::scenes::SceneData;
-
-use clap::Parser;
 
 /// What a call did. Anything but `STRATA_STATUS_OK` comes with a message
 /// from [`strata_last_error`].
@@ -332,6 +330,7 @@ pub unsafe extern "C" fn strata_sampler_new(
     guard(|| {
         // SAFETY: `out` is checked and, per the contract, writable.
         let out = unsafe { output(out, 1, "out") }?;
+        out[0] = std::ptr::null_mut(); // what a failure leaves
         let sampler = make_sampler(kind, spp, seed, width, height)?;
         out[0] = Box::into_raw(Box::new(sampler));
         Ok(())
@@ -357,7 +356,7 @@ pub unsafe extern "C" fn strata_sampler_free(sampler: *mut StrataSampler) {
 /// # Safety
 /// `s` must be null (refused) or a live sampler that no other thread
 /// uses during the call.
-unsafe fn sampler<'a>(s: *mut StrataSampler) -> Result<&'a mut StrataSampler, Failure> {
+unsafe fn sampler_of<'a>(s: *mut StrataSampler) -> Result<&'a mut StrataSampler, Failure> {
     // SAFETY: a live handle, used by this thread only, per the contract.
     unsafe { s.as_mut() }.ok_or_else(|| null("sampler"))
 }
@@ -438,14 +437,14 @@ fn fill_rows<S: Sampler>(s: &mut S, pixels: &[u32], indices: &[u32], dims: usize
 /// uses during the call.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_start(
-    sampler_: *mut StrataSampler,
+    sampler: *mut StrataSampler,
     px: u32,
     py: u32,
     index: u32,
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let s = unsafe { sampler(sampler_) }?;
+        let s = unsafe { sampler_of(sampler) }?;
         s.inner
             .as_dyn()
             .start_pixel_sample(UVec2::new(px, py), index);
@@ -461,13 +460,13 @@ pub unsafe extern "C" fn strata_sampler_start(
 /// valid for `out_len` floats.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_pixel_2d(
-    sampler_: *mut StrataSampler,
+    sampler: *mut StrataSampler,
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
+        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
         let out = room(out, 2, "out")?;
         let p = s.inner.as_dyn().pixel_2d();
         out.copy_from_slice(&[p.x, p.y]);
@@ -481,13 +480,13 @@ pub unsafe extern "C" fn strata_sampler_pixel_2d(
 /// As [`strata_sampler_pixel_2d`].
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_next_1d(
-    sampler_: *mut StrataSampler,
+    sampler: *mut StrataSampler,
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
+        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
         let out = room(out, 1, "out")?;
         out[0] = s.inner.as_dyn().next_1d();
         Ok(())
@@ -500,13 +499,13 @@ pub unsafe extern "C" fn strata_sampler_next_1d(
 /// As [`strata_sampler_pixel_2d`].
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_next_2d(
-    sampler_: *mut StrataSampler,
+    sampler: *mut StrataSampler,
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler(sampler_)?, output(out, out_len, "out")?) };
+        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
         let out = room(out, 2, "out")?;
         let v = s.inner.as_dyn().next_2d();
         out.copy_from_slice(&[v.x, v.y]);
@@ -527,7 +526,7 @@ pub unsafe extern "C" fn strata_sampler_next_2d(
 /// unless its length is 0) or valid for its length.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_fill(
-    sampler_: *mut StrataSampler,
+    sampler: *mut StrataSampler,
     pixels: *const u32,
     pixels_len: usize,
     indices: *const u32,
@@ -540,7 +539,7 @@ pub unsafe extern "C" fn strata_sampler_fill(
         // SAFETY: per this function's contract.
         let (s, pixels, indices, out) = unsafe {
             (
-                sampler(sampler_)?,
+                sampler_of(sampler)?,
                 input(pixels, pixels_len, "pixels")?,
                 input(indices, indices_len, "indices")?,
                 output(out, out_len, "out")?,
@@ -574,13 +573,13 @@ pub unsafe extern "C" fn strata_sampler_fill(
 /// valid for one `uint32_t`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn strata_sampler_spp(
-    sampler_: *mut StrataSampler,
+    sampler: *const StrataSampler,
     out: *mut u32,
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler(sampler_)?, output(out, 1, "out")?) };
-        out[0] = s.inner.as_dyn().samples_per_pixel();
+        let (s, out) = unsafe { (handle(sampler, "sampler")?, output(out, 1, "out")?) };
+        out[0] = with_kind!(&s.inner, s => s.samples_per_pixel());
         Ok(())
     })
 }
@@ -1144,12 +1143,10 @@ pub unsafe extern "C" fn strata_bvh_build(
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (spheres, out) = unsafe {
-            (
-                input(spheres, spheres_len, "spheres")?,
-                output(out, 1, "out")?,
-            )
-        };
+        let out = unsafe { output(out, 1, "out") }?;
+        out[0] = std::ptr::null_mut(); // what a failure leaves
+        // SAFETY: per this function's contract.
+        let spheres = unsafe { input(spheres, spheres_len, "spheres") }?;
         let n = rows(spheres, 4, "spheres")?;
         too_many(n)?;
         let list: Vec<Sphere> = spheres
@@ -1283,19 +1280,31 @@ pub struct StrataAabb {
     pub max: [f32; 3],
 }
 
-/// The caller's intersection routine: whether `ray` hits primitive
-/// `index` in `(t_min, t_max)`, and if so its `t` in `*t`. `user` is the
-/// pointer given to the build. It must be a pure function of its
-/// arguments while the tree is used, and may be called from any thread
-/// that queries the tree.
+/// The caller's intersection routine: nonzero if `ray` hits primitive
+/// `index` in `(t_min, t_max)`, with its `t` in `*t`; 0 if not. `user` is
+/// the pointer given to the build. It must be a pure function of its
+/// arguments while the tree is used; it runs on the thread that queries
+/// the tree, so when several threads query one tree at once it runs on
+/// all of them at once. It must not throw a C++ exception or `longjmp`
+/// out (an exception that reaches Strata aborts the process).
 pub type StrataIntersectFn = Option<
-    unsafe extern "C" fn(user: *mut c_void, index: u32, ray: *const StrataRay, t: *mut f32) -> bool,
+    unsafe extern "C-unwind" fn(
+        user: *mut c_void,
+        index: u32,
+        ray: *const StrataRay,
+        t: *mut f32,
+    ) -> std::ffi::c_int,
 >;
 
 /// The caller's primitives as the core sees them.
 struct CPrimitives {
     bounds: &'static [StrataAabb],
-    intersect: unsafe extern "C" fn(*mut c_void, u32, *const StrataRay, *mut f32) -> bool,
+    intersect: unsafe extern "C-unwind" fn(
+        *mut c_void,
+        u32,
+        *const StrataRay,
+        *mut f32,
+    ) -> std::ffi::c_int,
     user: *mut c_void,
 }
 
@@ -1322,7 +1331,7 @@ impl Primitives for CPrimitives {
         // SAFETY: the routine and `user` are the caller's, with the
         // contract of `StrataIntersectFn`; `index` < len fits a u32
         // (at most BVH_MAX_SPHERES items); both pointers are to locals.
-        let hit = unsafe { (self.intersect)(self.user, index as u32, &r, &mut t) };
+        let hit = unsafe { (self.intersect)(self.user, index as u32, &r, &mut t) } != 0;
         // The tree's one requirement, kept here: a hit outside its box is
         // dropped (as the brute-force reference drops it too).
         (hit && t > ray.t_min && t < ray.t_max && self.bounds(index).holds_hit(ray, t))
@@ -1330,19 +1339,23 @@ impl Primitives for CPrimitives {
     }
 }
 
-/// A BVH over the caller's primitives (opaque).
+/// A BVH over the caller's primitives (opaque). Queries from several
+/// threads at once are safe when the intersection routine is.
 pub struct StrataPrimitiveBvh {
-    /// Declared first: dropped before the primitives it borrows.
-    bvh: PrimitiveBvh<'static, CPrimitives>,
+    /// The view borrows `prims`: dropped by hand, before them.
+    bvh: std::mem::ManuallyDrop<PrimitiveBvh<'static, CPrimitives>>,
     prims: *mut CPrimitives,
 }
 
 impl Drop for StrataPrimitiveBvh {
     fn drop(&mut self) {
-        // SAFETY: `prims` came from `Box::into_raw` in the build and is
-        // freed once, here; the view borrowing it is dropped after this
-        // body runs but never used again (its drop does nothing).
-        drop(unsafe { Box::from_raw(self.prims) });
+        // SAFETY: the view is dropped once, here, and never used after;
+        // then `prims`, from `Box::into_raw` in the build, is freed once,
+        // with nothing left borrowing it.
+        unsafe {
+            std::mem::ManuallyDrop::drop(&mut self.bvh);
+            drop(Box::from_raw(self.prims));
+        }
     }
 }
 
@@ -1389,13 +1402,14 @@ pub unsafe extern "C" fn strata_primitive_bvh_build(
     out: *mut *mut StrataPrimitiveBvh,
 ) -> StrataStatus {
     guard(|| {
+        // SAFETY: per this function's contract.
+        let out = unsafe { output(out, 1, "out") }?;
+        out[0] = std::ptr::null_mut(); // what a failure leaves
         too_many(n)?;
         let intersect = intersect.ok_or_else(|| null("intersect"))?;
         // SAFETY: per this function's contract; `'static` stands for the
         // handle's life, which the caller keeps `bounds` alive for.
         let bounds: &'static [StrataAabb] = unsafe { input(bounds, n, "bounds") }?;
-        // SAFETY: per this function's contract.
-        let out = unsafe { output(out, 1, "out") }?;
         let at = layout(primitive_bvh_storage_for(n))?;
         // SAFETY: as in `strata_bvh_build`.
         let (nodes, _, ids): TreeArrays<'static> = unsafe { carve(storage, storage_bytes, &at) }?;
@@ -1409,7 +1423,10 @@ pub unsafe extern "C" fn strata_primitive_bvh_build(
         let view: &'static CPrimitives = unsafe { &*prims };
         match PrimitiveBvh::build(view, nodes, ids) {
             Ok(bvh) => {
-                out[0] = Box::into_raw(Box::new(StrataPrimitiveBvh { bvh, prims }));
+                out[0] = Box::into_raw(Box::new(StrataPrimitiveBvh {
+                    bvh: std::mem::ManuallyDrop::new(bvh),
+                    prims,
+                }));
                 Ok(())
             }
             Err(e) => {
@@ -1555,17 +1572,16 @@ fn invalid(e: anyhow::Error) -> Failure {
     failure(StrataStatus::InvalidArgument, format!("{e:#}"))
 }
 
-/// Flags of `strata render` that name files or the run, not the image.
-const NOT_FOR_LIBRARIES: [&str; 9] = [
-    "-o",
-    "--output",
-    "--stats",
-    "--spp-map",
-    "--checkpoint",
-    "--no-checkpoint",
-    "--resume",
-    "--threads",
-    "-j",
+/// `strata render`'s settings (clap ids) that name files or the run, not
+/// the image: refused however they are spelt (`-o x`, `-ox`, `--output=x`).
+const NOT_FOR_LIBRARIES: [&str; 7] = [
+    "output",
+    "stats",
+    "spp_map",
+    "checkpoint",
+    "no_checkpoint",
+    "resume",
+    "threads",
 ];
 
 /// Plans a render from the flags of `strata render` (`flags[0..n]`, for
@@ -1588,7 +1604,10 @@ pub unsafe extern "C" fn strata_render_new(
 ) -> StrataStatus {
     guard(|| {
         // SAFETY: per this function's contract.
-        let (flags, out) = unsafe { (input(flags, n, "flags")?, output(out, 1, "out")?) };
+        let out = unsafe { output(out, 1, "out") }?;
+        out[0] = std::ptr::null_mut(); // what a failure leaves
+        // SAFETY: per this function's contract.
+        let flags = unsafe { input(flags, n, "flags") }?;
         let mut argv = vec!["strata".to_string(), "render".to_string()];
         for (i, &f) in flags.iter().enumerate() {
             if f.is_null() {
@@ -1603,18 +1622,9 @@ pub unsafe extern "C" fn strata_render_new(
                         format!("flags[{i}] is not UTF-8"),
                     )
                 })?;
-            let name = text.split('=').next().unwrap_or(text);
-            if NOT_FOR_LIBRARIES.contains(&name) {
-                return Err(failure(
-                    StrataStatus::InvalidArgument,
-                    format!(
-                        "{name}: the library renders into your buffers on the threads you give"
-                    ),
-                ));
-            }
             argv.push(text.to_string());
         }
-        let args = match Cli::try_parse_from(&argv) {
+        let args = match Cli::parse_with_sources(&argv) {
             Ok(Cli {
                 command: Some(Command::Render(args)),
                 ..
@@ -1630,6 +1640,19 @@ pub unsafe extern "C" fn strata_render_new(
                 ));
             }
         };
+        if let Some(id) = args
+            .given
+            .iter()
+            .find(|g| NOT_FOR_LIBRARIES.contains(&g.as_str()))
+        {
+            return Err(failure(
+                StrataStatus::InvalidArgument,
+                format!(
+                    "--{}: a library render writes into your buffers, on the threads you give",
+                    id.replace('_', "-")
+                ),
+            ));
+        }
         let scene = resolve_scene(&args.scene).map_err(invalid)?;
         let render = StrataRender { args, scene };
         render.job()?;
@@ -1674,7 +1697,9 @@ pub struct StrataRenderInfo {
     pub film_height: u32,
     /// Samples per pixel (the most, for an adaptive render).
     pub spp: u32,
-    /// The tiles [`strata_render_tile`] renders one at a time.
+    /// The number of tiles, each rendered by one [`strata_render_tile`]
+    /// call (calls for different tiles may run on different threads at
+    /// once).
     pub tiles: u32,
 }
 
@@ -1694,7 +1719,7 @@ pub unsafe extern "C" fn strata_render_info(
         let job = render.job()?;
         let w = job.window;
         let film = job.layout().extent(w, job.width, job.height);
-        let tiles = u32::try_from(job_tiles(&job).len())
+        let tiles = u32::try_from(tile_count(&job))
             .map_err(|_| failure(StrataStatus::InvalidArgument, "too many tiles"))?;
         info[0] = StrataRenderInfo {
             width: job.width,
@@ -1784,13 +1809,10 @@ pub unsafe extern "C" fn strata_render_tile(
             )
         };
         let job = render.job()?;
-        let t = *job_tiles(&job).get(index as usize).ok_or_else(|| {
+        let t = job_tile(&job, index as usize).ok_or_else(|| {
             failure(
                 StrataStatus::InvalidArgument,
-                format!(
-                    "tile {index}: the render has {} tiles",
-                    job_tiles(&job).len()
-                ),
+                format!("tile {index}: the render has {} tiles", tile_count(&job)),
             )
         })?;
         let (fw, fh) = job.layout().film_size(t).ok_or_else(|| {
@@ -1854,4 +1876,38 @@ pub unsafe extern "C" fn strata_film_hash(
         hash[0] = golden::film_hash(&sums);
         Ok(())
     })
+}
+
+// The thread-safety each handle's docs promise.
+const _: () = {
+    const fn send<T: Send>() {}
+    const fn sync<T: Sync>() {}
+    send::<StrataSampler>();
+    sync::<StrataBvh>();
+    send::<StrataBvh>();
+    sync::<StrataRender>();
+    send::<StrataRender>();
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A panic inside a call comes back as `STRATA_STATUS_PANIC` with its
+    /// message; an error as its status and message.
+    #[test]
+    fn panics_and_failures_become_statuses() {
+        let last = || {
+            // SAFETY: a NUL-terminated string this thread owns.
+            unsafe { std::ffi::CStr::from_ptr(strata_last_error()) }
+                .to_string_lossy()
+                .into_owned()
+        };
+        assert_eq!(guard(|| panic!("deliberate")), StrataStatus::Panic);
+        assert!(last().contains("deliberate"), "{}", last());
+        let status = guard(|| Err(failure(StrataStatus::ShortBuffer, "short")));
+        assert_eq!(status, StrataStatus::ShortBuffer);
+        assert_eq!(last(), "short");
+        assert_eq!(guard(|| Ok(())), StrataStatus::Ok);
+    }
 }

@@ -8,6 +8,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -331,7 +332,11 @@ static void bad_input(void) {
          "null out");
   expect(strata_sampler_start(NULL, 0, 0, 0), STRATA_STATUS_NULL_POINTER, "null sampler");
   expect(strata_sampler_next_2d(NULL, out, 2), STRATA_STATUS_NULL_POINTER, "null sampler 2d");
+  CHECK(s == NULL, "a failed create leaves NULL");
+  expect(strata_sampler_spp(NULL, NULL), STRATA_STATUS_NULL_POINTER, "spp of null");
   CHECK(strata_sampler_new(STRATA_SAMPLER_KIND_SOBOL, 16, 1, 0, 0, &s) == STRATA_STATUS_OK, "sobol");
+  expect(strata_sampler_pixel_2d(s, out, 1), STRATA_STATUS_SHORT_BUFFER, "position into 1 float");
+  expect(strata_sampler_spp(s, NULL), STRATA_STATUS_NULL_POINTER, "spp into null");
   expect(strata_sampler_next_2d(s, out, 1), STRATA_STATUS_SHORT_BUFFER, "2d into 1 float");
   expect(strata_sampler_next_1d(s, NULL, 1), STRATA_STATUS_NULL_POINTER, "1d into null");
   expect(strata_sampler_fill(s, pixels, 2, idx, 1, 9, out, 8), STRATA_STATUS_SHORT_BUFFER, "fill: short out");
@@ -343,6 +348,11 @@ static void bad_input(void) {
   strata_sampler_free(NULL);
 
   expect(strata_mapping_sample(42, 0.0f, u, 4, out, 8), STRATA_STATUS_INVALID_ARGUMENT, "unknown mapping");
+  expect(strata_mapping_invert(8, 0.0f, u, 3, out, 8), STRATA_STATUS_INVALID_ARGUMENT, "unknown inverse");
+  expect(strata_mapping_pdf(STRATA_MAPPING_UNIFORM_BALL, 0.0f, u, 3, out, 0), STRATA_STATUS_SHORT_BUFFER,
+         "pdf into nothing");
+  expect(strata_onb_to_local(STRATA_ONB_AXIS_SWITCH, u, 3, u, 3, NULL, 3), STRATA_STATUS_NULL_POINTER,
+         "local into null");
   expect(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 3, out, 8), STRATA_STATUS_SHORT_BUFFER,
          "half a row");
   expect(strata_mapping_sample(STRATA_MAPPING_UNIFORM_SPHERE, 0.0f, u, 4, out, 5), STRATA_STATUS_SHORT_BUFFER,
@@ -493,7 +503,7 @@ static void tracing_locks(const char *json, const char *data_dir) {
 }
 
 /* The caller's primitives: boxes, hit by a slab test in C. */
-static bool box_hit(void *user, uint32_t index, const StrataRay *r, float *t) {
+static int box_hit(void *user, uint32_t index, const StrataRay *r, float *t) {
   const StrataAabb *b = (const StrataAabb *)user + index;
   float near = -INFINITY, far = INFINITY, hit;
   int k;
@@ -508,11 +518,11 @@ static bool box_hit(void *user, uint32_t index, const StrataRay *r, float *t) {
     near = a > near ? a : near;
     far = z < far ? z : far;
   }
-  if (!(near <= far)) return false;
+  if (!(near <= far)) return 0;
   hit = near > r->t_min ? near : far;
-  if (!(hit > r->t_min && hit < r->t_max)) return false;
+  if (!(hit > r->t_min && hit < r->t_max)) return 0;
   *t = hit;
-  return true;
+  return 1;
 }
 
 /* The primitive BVH against a brute-force loop over the same routine:
@@ -619,6 +629,10 @@ static void bvh_bad_input(void) {
   ok(strata_primitive_bvh_build(&box, 1, box_hit, &box, storage, bytes, &pbvh), "build");
   ray.t_max = INFINITY;
   expect(strata_primitive_bvh_closest_hit(pbvh, &ray, 1, &hit, 0), STRATA_STATUS_SHORT_BUFFER, "no room");
+  expect(strata_primitive_bvh_any_hit(pbvh, &ray, 1, NULL, 1), STRATA_STATUS_NULL_POINTER, "any into null");
+  expect(strata_primitive_bvh_any_hit(NULL, &ray, 1, (uint8_t *)&hit, 1), STRATA_STATUS_NULL_POINTER,
+         "null tree");
+  expect(strata_primitive_bvh_storage_size(1, NULL), STRATA_STATUS_NULL_POINTER, "size into null");
   strata_primitive_bvh_free(pbvh);
   strata_primitive_bvh_free(NULL);
   free(storage);
@@ -644,8 +658,39 @@ static int read_strings(const char *json, const char *key, char out[][64], int m
   return n;
 }
 
+/* Tiles first, first + 2, ... of a render, on one thread of this program. */
+typedef struct {
+  StrataRender *render;
+  StrataRenderInfo info;
+  StrataPixelSum *placed;
+  uint32_t first;
+  int failed;
+} TileJob;
+
+static void *render_tiles(void *arg) {
+  TileJob *job = arg;
+  size_t cap = (size_t)job->info.film_width * job->info.film_height;
+  StrataPixelSum *film = malloc(cap * sizeof *film);
+  uint32_t t;
+  for (t = job->first; film && t < job->info.tiles; t += 2) {
+    uint32_t rect[4], size[2], row;
+    if (strata_render_tile(job->render, t, film, cap, rect, 4, size, 2) != STRATA_STATUS_OK ||
+        size[0] != rect[2] || size[1] != rect[3]) {
+      job->failed = 1;
+      break;
+    }
+    for (row = 0; row < rect[3]; row++)
+      memcpy(job->placed + (size_t)(rect[1] - job->info.y0 + row) * job->info.film_width + (rect[0] - job->info.x0),
+             film + (size_t)row * size[0], size[0] * sizeof *film);
+  }
+  if (!film) job->failed = 1;
+  free(film);
+  return NULL;
+}
+
 /* A golden render through the C API: the whole frame on 2 threads, and
- * again tile by tile on this thread; both hash to the golden row. */
+ * again tile by tile on two threads of this program; both hash to the
+ * golden row. */
 static void golden_row(const char *golden, const char *scene, const char *sampler) {
   char flags[16][64], key[128];
   const char *argv[24];
@@ -678,16 +723,27 @@ static void golden_row(const char *golden, const char *scene, const char *sample
   ok(strata_film_hash(film, (size_t)info.film_width * info.film_height, &whole), "hash");
   CHECK(whole == want, "%s on 2 threads: %016llx, golden %016llx", key, (unsigned long long)whole,
         (unsigned long long)want);
-  /* Tile by tile on this thread, placed into the window's film. */
-  for (t = 0; t < info.tiles; t++) {
-    uint32_t rect[4], size[2], row;
-    ok(strata_render_tile(render, t, tile_film, (size_t)info.film_width * info.film_height, rect, 4, size, 2),
-       "tile");
-    CHECK(size[0] == rect[2] && size[1] == rect[3], "a box-filter tile's film is the tile");
-    for (row = 0; row < rect[3]; row++)
-      memcpy(placed + (size_t)(rect[1] - info.y0 + row) * info.film_width + (rect[0] - info.x0),
-             tile_film + (size_t)row * size[0], size[0] * sizeof *placed);
+  /* Tile by tile on two threads of this program, each placing its
+   * tiles (even, odd) into the window's film. */
+  {
+    TileJob jobs[2];
+    pthread_t threads[2];
+    int j;
+    for (j = 0; j < 2; j++) {
+      jobs[j].render = render;
+      jobs[j].info = info;
+      jobs[j].placed = placed;
+      jobs[j].first = (uint32_t)j;
+      jobs[j].failed = 0;
+      CHECK(pthread_create(&threads[j], NULL, render_tiles, &jobs[j]) == 0, "thread");
+    }
+    for (j = 0; j < 2; j++) {
+      pthread_join(threads[j], NULL);
+      CHECK(!jobs[j].failed, "%s: a tile thread failed", key);
+    }
   }
+  (void)tile_film;
+  (void)t;
   ok(strata_film_hash(placed, (size_t)info.film_width * info.film_height, &tiled), "hash");
   CHECK(tiled == want, "%s tile by tile: %016llx, golden %016llx", key, (unsigned long long)tiled,
         (unsigned long long)want);
@@ -707,6 +763,8 @@ static void renderer(const char *golden) {
   const char *bad_spp[] = {"--scene", "week09", "--spp", "0"};
   const char *unknown[] = {"--scene", "no-such-scene"};
   const char *output[] = {"--scene", "week09", "-o", "x.png"};
+  const char *glued[] = {"--scene", "week09", "-ox.png"};
+  const char *threads[] = {"--scene", "week09", "--threads", "2"};
   const char *typo[] = {"--scene", "week09", "--spp", "many"};
   const char *small[] = {"--scene", "week09", "--width", "8", "--height", "4", "--spp", "1"};
   const char *null_flag[] = {"--scene", NULL};
@@ -721,6 +779,9 @@ static void renderer(const char *golden) {
   CHECK(strstr(strata_last_error(), "--spp 0") != NULL, "the check's message: %s", strata_last_error());
   expect(strata_render_new(unknown, 2, &render), STRATA_STATUS_INVALID_ARGUMENT, "unknown scene");
   expect(strata_render_new(output, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "-o");
+  CHECK(render == NULL, "a failed create leaves NULL");
+  expect(strata_render_new(glued, 3, &render), STRATA_STATUS_INVALID_ARGUMENT, "-ox.png");
+  expect(strata_render_new(threads, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "--threads");
   expect(strata_render_new(typo, 4, &render), STRATA_STATUS_INVALID_ARGUMENT, "--spp many");
   expect(strata_render_new(null_flag, 2, &render), STRATA_STATUS_NULL_POINTER, "null flag");
   expect(strata_render_new(NULL, 2, &render), STRATA_STATUS_NULL_POINTER, "null flags");
@@ -732,6 +793,11 @@ static void renderer(const char *golden) {
          "no such tile");
   expect(strata_render_tile(render, 0, film, 32, rect, 3, size, 2), STRATA_STATUS_SHORT_BUFFER, "short rect");
   expect(strata_render_info(NULL, NULL), STRATA_STATUS_NULL_POINTER, "null render");
+  expect(strata_film_hash(NULL, 4, NULL), STRATA_STATUS_NULL_POINTER, "hash of null");
+  {
+    float rgb[2];
+    expect(strata_film_rgb(film, 1, rgb, 2), STRATA_STATUS_SHORT_BUFFER, "rgb into 2 floats");
+  }
   strata_render_free(render);
   strata_render_free(NULL);
 }
