@@ -317,6 +317,37 @@ fn random_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<Ray> {
         .collect()
 }
 
+/// FNV-1a of the tabulated mapping on [`grid`] (see [`piecewise_lock`]).
+const PIECEWISE_LOCK: u64 = 0x6895e85866df53b4;
+
+/// The tabulated 2-D mapping over a fixed table (`(row · 32 + column) mod
+/// 7`, zeros included): each grid point's sample and its pdf, the pdf at
+/// the point and the inverse, hashed.
+#[test]
+fn piecewise_lock() {
+    use strata::mapping::{PIECEWISE_2D_SIZE as N, PiecewiseConstant2D};
+    let mut values = [[0.0f32; N]; N];
+    for (r, row) in values.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = ((r * N + c) % 7) as f32;
+        }
+    }
+    let table = PiecewiseConstant2D::new(&values).unwrap();
+    let words: Vec<u32> = grid()
+        .flat_map(|u| {
+            let (p, pdf) = table.sample(u);
+            [
+                &v2(p)[..],
+                &[pdf.to_bits(), table.pdf(p).to_bits()],
+                &v2(table.invert(p))[..],
+            ]
+            .concat()
+        })
+        .collect();
+    let got = fnv(words);
+    assert_eq!(got, PIECEWISE_LOCK, "piecewise: {got:#018x}\n{CHANGED}");
+}
+
 /// FNV-1a of the closest and any hits of 4096 seeded rays through each
 /// reference layout, as [`tracing_lock`] makes them.
 const TRACING_LOCK: [(&str, u64); 2] = [
@@ -394,7 +425,8 @@ fn locks_json() -> String {
         let comma = if k + 1 < MAPPING_LOCK.len() { "," } else { "" };
         out += &format!("    \"{name}\": \"{h:#018x}\"{comma}\n");
     }
-    out += "  },\n  \"tracing_fnv\": {\n";
+    out += &format!("  }},\n  \"piecewise_fnv\": \"{PIECEWISE_LOCK:#018x}\",\n");
+    out += "  \"tracing_fnv\": {\n";
     for (k, (name, h)) in TRACING_LOCK.iter().enumerate() {
         let comma = if k + 1 < TRACING_LOCK.len() { "," } else { "" };
         out += &format!("    \"{name}\": \"{h:#018x}\"{comma}\n");

@@ -12,6 +12,12 @@
 #include <stdlib.h>
 
 /**
+ * Cells per axis of a [`StrataPiecewise2d`]: its table holds this
+ * squared values.
+ */
+#define STRATA_PIECEWISE_2D_SIZE 32
+
+/**
  * What a call did. Anything but `STRATA_STATUS_OK` comes with a message
  * from [`strata_last_error`].
  */
@@ -132,6 +138,13 @@ typedef enum StrataOnb {
  * many threads at once are safe; the storage must outlive it unchanged.
  */
 typedef struct StrataBvh StrataBvh;
+
+/**
+ * A piecewise-constant density on `[0, 1)²` tabulated from your values
+ * (opaque; the core's `PiecewiseConstant2D`): sample, pdf and inverse
+ * like every mapping. Use from many threads at once is safe.
+ */
+typedef struct StrataPiecewise2d StrataPiecewise2d;
 
 /**
  * A BVH over the caller's primitives (opaque). Queries from several
@@ -728,6 +741,69 @@ enum StrataStatus strata_film_rgb(const struct StrataPixelSum *film,
  * refused).
  */
 enum StrataStatus strata_film_hash(const struct StrataPixelSum *film, size_t n, uint64_t *hash);
+
+/**
+ * Tabulates the density proportional to `values`
+ * (`STRATA_PIECEWISE_2D_SIZE²` floats, row-major, row = y), every value
+ * finite and `≥ 0` and not all 0; the handle in `*out` (NULL on a
+ * failure).
+ *
+ * # Safety
+ * `values` valid for `values_len` floats; `out` for one pointer (nulls
+ * refused).
+ */
+enum StrataStatus strata_piecewise2d_new(const float *values,
+                                         size_t values_len,
+                                         struct StrataPiecewise2d **out);
+
+/**
+ * Frees a table; null is ignored.
+ *
+ * # Safety
+ * `table` null or from [`strata_piecewise2d_new`], not freed before.
+ */
+void strata_piecewise2d_free(struct StrataPiecewise2d *table);
+
+/**
+ * Maps each sample row of `u` (2 floats) to a point of `[0, 1)²` in
+ * `points` (2 floats a row) and its density in `pdfs`.
+ *
+ * # Safety
+ * `table` a live table; each array valid for its length (nulls refused
+ * unless it is 0); outputs not overlapping inputs.
+ */
+enum StrataStatus strata_piecewise2d_sample(const struct StrataPiecewise2d *table,
+                                            const float *u,
+                                            size_t u_len,
+                                            float *points,
+                                            size_t points_len,
+                                            float *pdfs,
+                                            size_t pdfs_len);
+
+/**
+ * The density at each point row of `points` (2 floats) into `out`.
+ *
+ * # Safety
+ * As [`strata_piecewise2d_sample`].
+ */
+enum StrataStatus strata_piecewise2d_pdf(const struct StrataPiecewise2d *table,
+                                         const float *points,
+                                         size_t points_len,
+                                         float *out,
+                                         size_t out_len);
+
+/**
+ * The sample row that maps to each point row of `points`, into `out`
+ * (2 floats a row).
+ *
+ * # Safety
+ * As [`strata_piecewise2d_sample`].
+ */
+enum StrataStatus strata_piecewise2d_invert(const struct StrataPiecewise2d *table,
+                                            const float *points,
+                                            size_t points_len,
+                                            float *out,
+                                            size_t out_len);
 
 #ifdef __cplusplus
 }  // extern "C"

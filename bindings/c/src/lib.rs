@@ -28,7 +28,7 @@ use std::ffi::{CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use strata_core::glam::{UVec2, Vec2, Vec3};
-use strata_core::mapping::{self, Cone};
+use strata_core::mapping::{self, Cone, PiecewiseConstant2D};
 use strata_core::render::PixelSum;
 use strata_core::trace::{
     Aabb, BVH_MAX_SPHERES, Bvh, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, Primitives, Ray,
@@ -1878,6 +1878,177 @@ pub unsafe extern "C" fn strata_film_hash(
     })
 }
 
+// ------------------------------------------------------------ the tabulated mapping
+
+/// Cells per axis of a [`StrataPiecewise2d`]: its table holds this
+/// squared values.
+pub const STRATA_PIECEWISE_2D_SIZE: usize = 32;
+const _: () = assert!(STRATA_PIECEWISE_2D_SIZE == strata_core::mapping::PIECEWISE_2D_SIZE);
+
+/// A piecewise-constant density on `[0, 1)²` tabulated from your values
+/// (opaque; the core's `PiecewiseConstant2D`): sample, pdf and inverse
+/// like every mapping. Use from many threads at once is safe.
+pub struct StrataPiecewise2d {
+    table: PiecewiseConstant2D,
+}
+
+/// Tabulates the density proportional to `values`
+/// (`STRATA_PIECEWISE_2D_SIZE²` floats, row-major, row = y), every value
+/// finite and `≥ 0` and not all 0; the handle in `*out` (NULL on a
+/// failure).
+///
+/// # Safety
+/// `values` valid for `values_len` floats; `out` for one pointer (nulls
+/// refused).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_piecewise2d_new(
+    values: *const f32,
+    values_len: usize,
+    out: *mut *mut StrataPiecewise2d,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let out = unsafe { output(out, 1, "out") }?;
+        out[0] = std::ptr::null_mut(); // what a failure leaves
+        // SAFETY: per this function's contract.
+        let values = unsafe { input(values, values_len, "values") }?;
+        const N: usize = STRATA_PIECEWISE_2D_SIZE;
+        if values.len() != N * N {
+            return Err(failure(
+                StrataStatus::ShortBuffer,
+                format!(
+                    "values holds {} floats; the table takes {}",
+                    values.len(),
+                    N * N
+                ),
+            ));
+        }
+        let mut grid = [[0.0f32; N]; N];
+        for (row, src) in grid.iter_mut().zip(values.chunks_exact(N)) {
+            row.copy_from_slice(src);
+        }
+        let table = PiecewiseConstant2D::new(&grid).ok_or_else(|| {
+            failure(
+                StrataStatus::InvalidArgument,
+                "values: each must be finite and ≥ 0, and not all 0",
+            )
+        })?;
+        out[0] = Box::into_raw(Box::new(StrataPiecewise2d { table }));
+        Ok(())
+    })
+}
+
+/// Frees a table; null is ignored.
+///
+/// # Safety
+/// `table` null or from [`strata_piecewise2d_new`], not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_piecewise2d_free(table: *mut StrataPiecewise2d) {
+    if !table.is_null() {
+        // SAFETY: from `Box::into_raw` in `strata_piecewise2d_new`, once.
+        drop(unsafe { Box::from_raw(table) });
+    }
+}
+
+/// Maps each sample row of `u` (2 floats) to a point of `[0, 1)²` in
+/// `points` (2 floats a row) and its density in `pdfs`.
+///
+/// # Safety
+/// `table` a live table; each array valid for its length (nulls refused
+/// unless it is 0); outputs not overlapping inputs.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_piecewise2d_sample(
+    table: *const StrataPiecewise2d,
+    u: *const f32,
+    u_len: usize,
+    points: *mut f32,
+    points_len: usize,
+    pdfs: *mut f32,
+    pdfs_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (t, u, points, pdfs) = unsafe {
+            (
+                &handle(table, "table")?.table,
+                input(u, u_len, "u")?,
+                output(points, points_len, "points")?,
+                output(pdfs, pdfs_len, "pdfs")?,
+            )
+        };
+        let n = rows(u, 2, "u")?;
+        let points = room(points, u.len(), "points")?;
+        let pdfs = room(pdfs, n, "pdfs")?;
+        for ((r, p), pdf) in u.chunks_exact(2).zip(points.chunks_exact_mut(2)).zip(pdfs) {
+            let (q, d) = t.sample(Vec2::new(r[0], r[1]));
+            p.copy_from_slice(&q.to_array());
+            *pdf = d;
+        }
+        Ok(())
+    })
+}
+
+/// The density at each point row of `points` (2 floats) into `out`.
+///
+/// # Safety
+/// As [`strata_piecewise2d_sample`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_piecewise2d_pdf(
+    table: *const StrataPiecewise2d,
+    points: *const f32,
+    points_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (t, points, out) = unsafe {
+            (
+                &handle(table, "table")?.table,
+                input(points, points_len, "points")?,
+                output(out, out_len, "out")?,
+            )
+        };
+        let n = rows(points, 2, "points")?;
+        let out = room(out, n, "out")?;
+        for (p, o) in points.chunks_exact(2).zip(out) {
+            *o = t.pdf(Vec2::new(p[0], p[1]));
+        }
+        Ok(())
+    })
+}
+
+/// The sample row that maps to each point row of `points`, into `out`
+/// (2 floats a row).
+///
+/// # Safety
+/// As [`strata_piecewise2d_sample`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn strata_piecewise2d_invert(
+    table: *const StrataPiecewise2d,
+    points: *const f32,
+    points_len: usize,
+    out: *mut f32,
+    out_len: usize,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per this function's contract.
+        let (t, points, out) = unsafe {
+            (
+                &handle(table, "table")?.table,
+                input(points, points_len, "points")?,
+                output(out, out_len, "out")?,
+            )
+        };
+        rows(points, 2, "points")?;
+        let out = room(out, points.len(), "out")?;
+        for (p, o) in points.chunks_exact(2).zip(out.chunks_exact_mut(2)) {
+            o.copy_from_slice(&t.invert(Vec2::new(p[0], p[1])).to_array());
+        }
+        Ok(())
+    })
+}
+
 // The thread-safety each handle's docs promise.
 const _: () = {
     const fn send<T: Send>() {}
@@ -1887,6 +2058,8 @@ const _: () = {
     send::<StrataBvh>();
     sync::<StrataRender>();
     send::<StrataRender>();
+    sync::<StrataPiecewise2d>();
+    send::<StrataPiecewise2d>();
 };
 
 #[cfg(test)]

@@ -802,6 +802,44 @@ static void renderer(const char *golden) {
   strata_render_free(NULL);
 }
 
+/* ---------------------------------------------------------- the tabulated mapping */
+
+/* The core's piecewise lock: table (row * 32 + column) mod 7; per grid
+ * point the sample and its pdf, the pdf at the point, the inverse. */
+static void piecewise(const char *json) {
+  enum { S = STRATA_PIECEWISE_2D_SIZE };
+  static float values[S * S], pts[2 * N], pdfs[N], again[N], back[2 * N];
+  StrataPiecewise2d *table = NULL;
+  Fnv f = {0xcbf29ce484222325ull};
+  uint64_t want = 0;
+  int i;
+  for (i = 0; i < S * S; i++) values[i] = (float)(i % 7);
+  grid(u2);
+  ok(strata_piecewise2d_new(values, S * S, &table), "table");
+  ok(strata_piecewise2d_sample(table, u2, 2 * N, pts, 2 * N, pdfs, N), "sample");
+  ok(strata_piecewise2d_pdf(table, pts, 2 * N, again, N), "pdf");
+  ok(strata_piecewise2d_invert(table, pts, 2 * N, back, 2 * N), "invert");
+  for (i = 0; i < N; i++) {
+    fnv_floats(&f, pts + 2 * i, 2);
+    fnv_floats(&f, pdfs + i, 1);
+    fnv_floats(&f, again + i, 1);
+    fnv_floats(&f, back + 2 * i, 2);
+  }
+  CHECK(read_hex(json, "piecewise_fnv", &want), "piecewise_fnv: not in the locks file");
+  CHECK(f.h == want, "piecewise: %016llx, locked %016llx", (unsigned long long)f.h, (unsigned long long)want);
+  expect(strata_piecewise2d_sample(table, u2, 3, pts, 2 * N, pdfs, N), STRATA_STATUS_SHORT_BUFFER, "half a row");
+  expect(strata_piecewise2d_pdf(NULL, pts, 2, again, 1), STRATA_STATUS_NULL_POINTER, "null table");
+  strata_piecewise2d_free(table);
+  strata_piecewise2d_free(NULL);
+  table = NULL;
+  expect(strata_piecewise2d_new(values, S * S - 1, &table), STRATA_STATUS_SHORT_BUFFER, "1023 values");
+  values[5] = -1.0f;
+  expect(strata_piecewise2d_new(values, S * S, &table), STRATA_STATUS_INVALID_ARGUMENT, "a negative value");
+  for (i = 0; i < S * S; i++) values[i] = 0.0f;
+  expect(strata_piecewise2d_new(values, S * S, &table), STRATA_STATUS_INVALID_ARGUMENT, "all zero");
+  CHECK(table == NULL, "a failed create leaves NULL");
+}
+
 int main(int argc, char **argv) {
   char *json, *golden;
   const char *level = strata_simd_level();
@@ -829,6 +867,7 @@ int main(int argc, char **argv) {
     tracing_locks(json, dir);
   }
   primitive_bvh();
+  piecewise(json);
   bad_input();
   bvh_bad_input();
   renderer(golden);
