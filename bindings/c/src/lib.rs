@@ -1209,6 +1209,27 @@ unsafe fn over_rays<T>(
     Ok(())
 }
 
+/// One query per ray of a tree behind `tree`, its results into `out`.
+///
+/// # Safety
+/// As the public queries document.
+unsafe fn query<H, T>(
+    tree: *const H,
+    rays: *const StrataRay,
+    n: usize,
+    out: *mut T,
+    out_len: usize,
+    mut q: impl FnMut(&H, &Ray, &mut BvhStack) -> T,
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per the calling function's contract.
+        let tree = unsafe { handle(tree, "bvh") }?;
+        let mut stack = BvhStack::new();
+        // SAFETY: per the calling function's contract.
+        unsafe { over_rays(rays, n, out, out_len, |ray| q(tree, ray, &mut stack)) }
+    })
+}
+
 /// The closest hit of each of the `n` rays into `hits[i]`.
 /// Rays are checked (see [`StrataRay`]); on an error the hits are
 /// unspecified.
@@ -1224,21 +1245,17 @@ pub unsafe extern "C" fn strata_bvh_closest_hit(
     hits: *mut StrataHit,
     hits_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
-        let mut stack = BvhStack::new();
-        // SAFETY: per this function's contract.
-        unsafe {
-            over_rays(rays, n, hits, hits_len, |ray| {
-                bvh.closest_hit_with(ray, &mut stack)
-                    .map_or(MISS, |h| StrataHit {
-                        t: h.t,
-                        id: h.sphere,
-                    })
-            })
-        }
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        query(bvh, rays, n, hits, hits_len, |t, ray, stack| {
+            t.bvh
+                .closest_hit_with(ray, stack)
+                .map_or(MISS, |h| StrataHit {
+                    t: h.t,
+                    id: h.sphere,
+                })
+        })
+    }
 }
 
 /// Whether each of the `n` rays hits anything (`1`) or not (`0`), into
@@ -1254,17 +1271,12 @@ pub unsafe extern "C" fn strata_bvh_any_hit(
     occluded: *mut u8,
     occluded_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
-        let mut stack = BvhStack::new();
-        // SAFETY: per this function's contract.
-        unsafe {
-            over_rays(rays, n, occluded, occluded_len, |ray| {
-                u8::from(bvh.any_hit_with(ray, &mut stack))
-            })
-        }
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        query(bvh, rays, n, occluded, occluded_len, |t, ray, stack| {
+            u8::from(t.bvh.any_hit_with(ray, stack))
+        })
+    }
 }
 
 // ------------------------------------------------------------ the caller's primitives
@@ -1468,21 +1480,17 @@ pub unsafe extern "C" fn strata_primitive_bvh_closest_hit(
     hits: *mut StrataHit,
     hits_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
-        let mut stack = BvhStack::new();
-        // SAFETY: per this function's contract.
-        unsafe {
-            over_rays(rays, n, hits, hits_len, |ray| {
-                bvh.closest_hit_with(ray, &mut stack)
-                    .map_or(MISS, |h| StrataHit {
-                        t: h.t,
-                        id: h.primitive,
-                    })
-            })
-        }
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        query(bvh, rays, n, hits, hits_len, |t, ray, stack| {
+            t.bvh
+                .closest_hit_with(ray, stack)
+                .map_or(MISS, |h| StrataHit {
+                    t: h.t,
+                    id: h.primitive,
+                })
+        })
+    }
 }
 
 /// Whether each of the `n` rays hits any primitive, into `occluded[i]`.
@@ -1497,17 +1505,12 @@ pub unsafe extern "C" fn strata_primitive_bvh_any_hit(
     occluded: *mut u8,
     occluded_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let bvh = &unsafe { handle(bvh, "bvh") }?.bvh;
-        let mut stack = BvhStack::new();
-        // SAFETY: per this function's contract.
-        unsafe {
-            over_rays(rays, n, occluded, occluded_len, |ray| {
-                u8::from(bvh.any_hit_with(ray, &mut stack))
-            })
-        }
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        query(bvh, rays, n, occluded, occluded_len, |t, ray, stack| {
+            u8::from(t.bvh.any_hit_with(ray, stack))
+        })
+    }
 }
 
 // ------------------------------------------------------------ the renderer
