@@ -452,6 +452,24 @@ pub unsafe extern "C" fn strata_sampler_start(
     })
 }
 
+/// One draw of `K` values from the sampler behind `sampler` into `out`.
+///
+/// # Safety
+/// As the public draws document.
+unsafe fn draw_into<const K: usize>(
+    sampler: *mut StrataSampler,
+    out: *mut f32,
+    out_len: usize,
+    draw: impl FnOnce(&mut dyn Sampler) -> [f32; K],
+) -> StrataStatus {
+    guard(|| {
+        // SAFETY: per the calling function's contract.
+        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
+        room(out, K, "out")?.copy_from_slice(&draw(s.inner.as_dyn()));
+        Ok(())
+    })
+}
+
 /// The position in the pixel (dimensions 0 and 1), in `[0, 1)²`, into
 /// `out[0..2]`; it does not advance the dimension.
 ///
@@ -464,14 +482,13 @@ pub unsafe extern "C" fn strata_sampler_pixel_2d(
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
-        let out = room(out, 2, "out")?;
-        let p = s.inner.as_dyn().pixel_2d();
-        out.copy_from_slice(&[p.x, p.y]);
-        Ok(())
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        draw_into(sampler, out, out_len, |s| {
+            let p = s.pixel_2d();
+            [p.x, p.y]
+        })
+    }
 }
 
 /// The next dimension, in `[0, 1)`, into `out[0]`.
@@ -484,13 +501,8 @@ pub unsafe extern "C" fn strata_sampler_next_1d(
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
-        let out = room(out, 1, "out")?;
-        out[0] = s.inner.as_dyn().next_1d();
-        Ok(())
-    })
+    // SAFETY: the contract is this function's.
+    unsafe { draw_into(sampler, out, out_len, |s| [s.next_1d()]) }
 }
 
 /// The next two dimensions, in `[0, 1)²`, into `out[0..2]`.
@@ -503,14 +515,13 @@ pub unsafe extern "C" fn strata_sampler_next_2d(
     out: *mut f32,
     out_len: usize,
 ) -> StrataStatus {
-    guard(|| {
-        // SAFETY: per this function's contract.
-        let (s, out) = unsafe { (sampler_of(sampler)?, output(out, out_len, "out")?) };
-        let out = room(out, 2, "out")?;
-        let v = s.inner.as_dyn().next_2d();
-        out.copy_from_slice(&[v.x, v.y]);
-        Ok(())
-    })
+    // SAFETY: the contract is this function's.
+    unsafe {
+        draw_into(sampler, out, out_len, |s| {
+            let v = s.next_2d();
+            [v.x, v.y]
+        })
+    }
 }
 
 /// Fills `out` with the first `dims` dimensions of many pixel samples,
