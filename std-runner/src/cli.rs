@@ -67,6 +67,61 @@ impl Cli {
     }
 }
 
+/// `strata render`'s settings (clap ids) that name files or the run, not
+/// the image: a library render refuses them however they are spelt (`-o
+/// x`, `-ox`, `--output=x`).
+const NOT_FOR_LIBRARIES: [&str; 7] = [
+    "output",
+    "stats",
+    "spp_map",
+    "checkpoint",
+    "no_checkpoint",
+    "resume",
+    "threads",
+];
+
+/// A render for a library caller (the C API, the Python package) from the
+/// flags of `strata render` (without the command's name: `["--scene",
+/// "cover", "--spp", "64"]`), checked as the command line is
+/// ([`RenderArgs::job`]), and its scene (built in, or a TOML file). Flags
+/// about files and threads are refused: a library render writes into the
+/// caller's memory on the threads it is given.
+///
+/// # Errors
+/// The flags' first problem, in one line (clap's usage text left out).
+pub fn library_render(flags: &[String]) -> anyhow::Result<(RenderArgs, crate::scenes::SceneData)> {
+    let argv = ["strata", "render"]
+        .into_iter()
+        .map(str::to_string)
+        .chain(flags.iter().cloned());
+    let args = match Cli::parse_with_sources(argv) {
+        Ok(Cli {
+            command: Some(Command::Render(args)),
+            ..
+        }) => args,
+        Ok(_) => anyhow::bail!("not a render"),
+        Err(e) => {
+            // clap's first line says what is wrong; the rest is usage.
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("invalid flags");
+            anyhow::bail!("{}", first.trim_start_matches("error: "));
+        }
+    };
+    if let Some(id) = args
+        .given
+        .iter()
+        .find(|g| NOT_FOR_LIBRARIES.contains(&g.as_str()))
+    {
+        anyhow::bail!(
+            "--{}: a library render writes into your buffers, on the threads you give",
+            id.replace('_', "-")
+        );
+    }
+    let scene = crate::commands::resolve_scene(&args.scene)?;
+    args.job(&scene)?;
+    Ok((args, scene))
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {

@@ -12,11 +12,11 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow};
 use glam::UVec2;
 use rayon::prelude::*;
+use strata::Sampler;
 use strata::render::{
     Adaptive, Camera, Layout, PixelSum, RenderSettings, Scene, Tile, TileRenderer, TileStats,
     render_tile, render_tile_adaptive, render_tile_splat,
 };
-use strata::{Halton, Independent, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::scenes::{BvhMode, SceneData};
 
@@ -68,8 +68,9 @@ impl SamplerKind {
     /// Runs `work` with the sampler of this kind for `spp`, `seed` and an
     /// image of `resolution` pixels (only [`SamplerKind::ZSobol`] uses it),
     /// as its concrete type (static dispatch: the hot loop is compiled per
-    /// kind); an error that says why if the kind refuses them. The one
-    /// place a kind becomes a sampler.
+    /// kind); an error that says why if the kind refuses them
+    /// ([`AnySampler::new`](crate::batch::AnySampler::new), the one place a
+    /// kind becomes a sampler).
     pub fn with_sampler<W: WithSampler>(
         self,
         spp: u32,
@@ -77,20 +78,16 @@ impl SamplerKind {
         resolution: UVec2,
         work: W,
     ) -> Result<W::Output> {
-        let refused = || {
-            anyhow!(
-                "the {} sampler takes no {spp} samples per pixel",
-                self.name()
-            )
-        };
-        Ok(match self {
-            SamplerKind::Independent => work.run(Independent::new(spp, seed).ok_or_else(refused)?),
-            SamplerKind::Grid => work.run(UniformGrid::new(spp, seed).ok_or_else(refused)?),
-            SamplerKind::Stratified => work.run(Stratified::new(spp, seed).ok_or_else(refused)?),
-            SamplerKind::Sobol => work.run(Sobol::new(spp, seed).ok_or_else(refused)?),
-            SamplerKind::Halton => work.run(Halton::new(spp, seed).ok_or_else(refused)?),
-            SamplerKind::ZSobol => work.run(ZSobol::new(spp, seed, resolution)?),
-        })
+        Ok(
+            match crate::batch::AnySampler::new(self, spp, seed, resolution)? {
+                crate::batch::AnySampler::Independent(s) => work.run(s),
+                crate::batch::AnySampler::Grid(s) => work.run(s),
+                crate::batch::AnySampler::Stratified(s) => work.run(s),
+                crate::batch::AnySampler::Sobol(s) => work.run(s),
+                crate::batch::AnySampler::Halton(s) => work.run(s),
+                crate::batch::AnySampler::ZSobol(s) => work.run(s),
+            },
+        )
     }
 }
 

@@ -2,6 +2,7 @@
 //! scenes and TOML scene files, the parallel renderer, image files, and
 //! the benchmark workloads.
 
+pub mod batch;
 pub mod bench;
 pub mod checkpoint;
 pub mod cli;

@@ -27,17 +27,20 @@ use std::cell::RefCell;
 use std::ffi::{CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use strata_core::Sampler;
 use strata_core::glam::{UVec2, Vec2, Vec3};
-use strata_core::mapping::{self, Cone, PiecewiseConstant2D};
+use strata_core::mapping::PiecewiseConstant2D;
 use strata_core::render::PixelSum;
 use strata_core::trace::{
     Aabb, BVH_MAX_SPHERES, Bvh, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, Primitives, Ray,
     SimdLevel, Sphere, bvh_storage_for, primitive_bvh_storage_for, simd_level,
 };
-use strata_core::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
-use strata_runner::cli::{Cli, Command, RenderArgs};
-use strata_runner::commands::resolve_scene;
+use strata_runner::batch::{
+    self, AnySampler, Basis, BatchError, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
+};
+use strata_runner::cli::{RenderArgs, library_render};
 use strata_runner::golden;
+use strata_runner::job::SamplerKind;
 use strata_runner::job::{Job, job_tile, render_tile_here, run, tile_count};
 use strata_runner::scenes::SceneData;
 
@@ -146,19 +149,26 @@ unsafe fn output<'a, T>(ptr: *mut T, len: usize, what: &str) -> Result<&'a mut [
 
 /// The first `need` elements of `out`, or a failure naming the shortfall.
 fn room<'a, T>(out: &'a mut [T], need: usize, what: &str) -> Result<&'a mut [T], Failure> {
-    let have = out.len();
-    out.get_mut(..need).ok_or_else(|| {
-        failure(
-            StrataStatus::ShortBuffer,
-            format!("{what} holds {have} elements; the call writes {need}"),
-        )
-    })
+    batch::room(out, need, what).map_err(batch_failure)
 }
 
 /// `a · b`, or a failure (sizes past `usize`).
 fn times(a: usize, b: usize, what: &str) -> Result<usize, Failure> {
-    a.checked_mul(b)
-        .ok_or_else(|| failure(StrataStatus::ShortBuffer, format!("{what}: size overflows")))
+    batch::times(a, b, what).map_err(batch_failure)
+}
+
+/// Rows of `width` floats in `values`, or a failure when it does not
+/// split into them.
+fn rows(values: &[f32], width: usize, what: &str) -> Result<usize, Failure> {
+    batch::rows(values, width, what).map_err(batch_failure)
+}
+
+/// A shared batch check's refusal, as a status and message.
+fn batch_failure(e: BatchError) -> Failure {
+    match e {
+        BatchError::Size(m) => failure(StrataStatus::ShortBuffer, m),
+        BatchError::Value(m) => failure(StrataStatus::InvalidArgument, m),
+    }
 }
 
 fn null(what: &str) -> Failure {
@@ -233,39 +243,6 @@ pub struct StrataSampler {
     inner: AnySampler,
 }
 
-/// A sampler of any kind, as its concrete type: the batch fill runs a
-/// loop compiled per kind (no call through a vtable per value).
-// Its size does not matter: one lives behind each handle's box.
-#[allow(clippy::large_enum_variant)]
-enum AnySampler {
-    Independent(Independent),
-    Grid(UniformGrid),
-    Stratified(Stratified),
-    Sobol(Sobol),
-    Halton(Halton),
-    ZSobol(ZSobol),
-}
-
-/// Runs `$body` with `$s` bound to the concrete sampler.
-macro_rules! with_kind {
-    ($any:expr, $s:ident => $body:expr) => {
-        match $any {
-            AnySampler::Independent($s) => $body,
-            AnySampler::Grid($s) => $body,
-            AnySampler::Stratified($s) => $body,
-            AnySampler::Sobol($s) => $body,
-            AnySampler::Halton($s) => $body,
-            AnySampler::ZSobol($s) => $body,
-        }
-    };
-}
-
-impl AnySampler {
-    fn as_dyn(&mut self) -> &mut dyn Sampler {
-        with_kind!(self, s => s)
-    }
-}
-
 fn make_sampler(
     kind: u32,
     spp: u32,
@@ -273,40 +250,14 @@ fn make_sampler(
     width: u32,
     height: u32,
 ) -> Result<StrataSampler, Failure> {
-    let (name, made) = match kind {
-        0 => (
-            "independent",
-            Independent::new(spp, seed).map(AnySampler::Independent),
-        ),
-        1 => ("grid", UniformGrid::new(spp, seed).map(AnySampler::Grid)),
-        2 => (
-            "stratified",
-            Stratified::new(spp, seed).map(AnySampler::Stratified),
-        ),
-        3 => ("sobol", Sobol::new(spp, seed).map(AnySampler::Sobol)),
-        4 => ("halton", Halton::new(spp, seed).map(AnySampler::Halton)),
-        5 => {
-            let z = ZSobol::new(spp, seed, UVec2::new(width, height)).map_err(|e| {
-                failure(
-                    StrataStatus::InvalidArgument,
-                    format!("zsobol sampler: {e}"),
-                )
-            })?;
-            ("zsobol", Some(AnySampler::ZSobol(z)))
-        }
-        k => {
-            return Err(failure(
-                StrataStatus::InvalidArgument,
-                format!("sampler kind {k} is unknown (0 to 5: STRATA_SAMPLER_KIND_*)"),
-            ));
-        }
-    };
-    let inner = made.ok_or_else(|| {
+    let kind = *SamplerKind::ALL.get(kind as usize).ok_or_else(|| {
         failure(
             StrataStatus::InvalidArgument,
-            format!("the {name} sampler takes no {spp} samples per pixel"),
+            format!("sampler kind {kind} is unknown (0 to 5: STRATA_SAMPLER_KIND_*)"),
         )
     })?;
+    let inner = AnySampler::new(kind, spp, seed, UVec2::new(width, height))
+        .map_err(|e| failure(StrataStatus::InvalidArgument, format!("{e:#}")))?;
     Ok(StrataSampler { inner })
 }
 
@@ -359,74 +310,6 @@ pub unsafe extern "C" fn strata_sampler_free(sampler: *mut StrataSampler) {
 unsafe fn sampler_of<'a>(s: *mut StrataSampler) -> Result<&'a mut StrataSampler, Failure> {
     // SAFETY: a live handle, used by this thread only, per the contract.
     unsafe { s.as_mut() }.ok_or_else(|| null("sampler"))
-}
-
-/// Writes the first `dims` dimensions of the current pixel sample to
-/// `out`: values 0 and 1 are the position in the pixel (`pixel_2d`), then
-/// pairs from `next_2d`, and the last from `next_1d` when `dims` is odd
-/// (one dimension: the position's x).
-#[inline(always)]
-fn draw<S: Sampler + ?Sized>(s: &mut S, out: &mut [f32]) {
-    let Some((first, rest)) = out.split_first_mut() else {
-        return;
-    };
-    let p = s.pixel_2d();
-    *first = p.x;
-    let Some((second, rest)) = rest.split_first_mut() else {
-        return;
-    };
-    *second = p.y;
-    let mut pairs = rest.chunks_exact_mut(2);
-    for pair in &mut pairs {
-        let v = s.next_2d();
-        pair[0] = v.x;
-        pair[1] = v.y;
-    }
-    if let [last] = pairs.into_remainder() {
-        *last = s.next_1d();
-    }
-}
-
-/// Rows of `D` values: the row's length known to the compiler, so its
-/// loop unrolls.
-#[inline(always)]
-fn rows_of<S: Sampler, const D: usize>(
-    s: &mut S,
-    pixels: &[u32],
-    indices: &[u32],
-    out: &mut [f32],
-) {
-    for ((row, pixel), &index) in out
-        .chunks_exact_mut(D)
-        .zip(pixels.chunks_exact(2))
-        .zip(indices)
-    {
-        s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
-        draw(s, row);
-    }
-}
-
-/// The batch fill for one sampler kind: rows of up to 16 values by a
-/// loop compiled for their length, longer rows by the general loop.
-fn fill_rows<S: Sampler>(s: &mut S, pixels: &[u32], indices: &[u32], dims: usize, out: &mut [f32]) {
-    macro_rules! by_length {
-        ($($d:literal)*) => {
-            match dims {
-                $($d => rows_of::<S, $d>(s, pixels, indices, out),)*
-                _ => {
-                    for ((row, pixel), &index) in out
-                        .chunks_exact_mut(dims)
-                        .zip(pixels.chunks_exact(2))
-                        .zip(indices)
-                    {
-                        s.start_pixel_sample(UVec2::new(pixel[0], pixel[1]), index);
-                        draw(s, row);
-                    }
-                }
-            }
-        };
-    }
-    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
 }
 
 /// Begins sample `index` of pixel `(px, py)`: the dimension goes back to
@@ -556,24 +439,9 @@ pub unsafe extern "C" fn strata_sampler_fill(
                 output(out, out_len, "out")?,
             )
         };
-        let n = indices.len();
-        if pixels.len() != times(n, 2, "pixels")? {
-            return Err(failure(
-                StrataStatus::ShortBuffer,
-                format!(
-                    "pixels holds {} values; {n} samples need {} (x, y per sample)",
-                    pixels.len(),
-                    2 * n
-                ),
-            ));
-        }
-        let dims = dims as usize;
-        let out = room(out, times(n, dims, "out")?, "out")?;
-        if dims == 0 {
-            return Ok(());
-        }
-        with_kind!(&mut s.inner, s => fill_rows(s, pixels, indices, dims, out));
-        Ok(())
+        s.inner
+            .fill(pixels, indices, dims as usize, out)
+            .map_err(batch_failure)
     })
 }
 
@@ -590,7 +458,7 @@ pub unsafe extern "C" fn strata_sampler_spp(
     guard(|| {
         // SAFETY: per this function's contract.
         let (s, out) = unsafe { (handle(sampler, "sampler")?, output(out, 1, "out")?) };
-        out[0] = with_kind!(&s.inner, s => s.samples_per_pixel());
+        out[0] = s.inner.samples_per_pixel();
         Ok(())
     })
 }
@@ -623,50 +491,12 @@ pub enum StrataMapping {
     UniformConeSin2 = 7,
 }
 
-/// A mapping's arities: floats per sample `u`, floats per point.
-fn arity(kind: u32) -> Result<(usize, usize), Failure> {
-    Ok(match kind {
-        0..=2 | 6 | 7 => (2, 3),
-        3 | 4 => (2, 2),
-        5 => (3, 3),
-        k => {
-            return Err(failure(
-                StrataStatus::InvalidArgument,
-                format!("mapping kind {k} is unknown (0 to 7: STRATA_MAPPING_*)"),
-            ));
-        }
-    })
-}
-
-/// Rows of `width` floats in `values`, or a failure when it does not
-/// split into them.
-fn rows(values: &[f32], width: usize, what: &str) -> Result<usize, Failure> {
-    if !values.len().is_multiple_of(width) {
-        return Err(failure(
-            StrataStatus::ShortBuffer,
-            format!(
-                "{what} holds {} floats, not a whole number of {width}-float rows",
-                values.len()
-            ),
-        ));
-    }
-    Ok(values.len() / width)
-}
-
-/// Which operation of a mapping.
-#[derive(Clone, Copy)]
-enum Op {
-    Sample,
-    Pdf,
-    Invert,
-}
-
 /// One operation over arrays: `input` rows in, `out` rows out.
 ///
 /// # Safety
 /// The arrays as the public calls document.
 unsafe fn map_arrays(
-    op: Op,
+    op: MapOp,
     kind: u32,
     cone: f32,
     values: *const f32,
@@ -675,12 +505,12 @@ unsafe fn map_arrays(
     out_len: usize,
 ) -> StrataStatus {
     guard(|| {
-        let (u_dims, p_dims) = arity(kind)?;
-        let (in_dims, out_dims) = match op {
-            Op::Sample => (u_dims, p_dims),
-            Op::Pdf => (p_dims, 1),
-            Op::Invert => (p_dims, u_dims),
-        };
+        let m = *Mapping::ALL.get(kind as usize).ok_or_else(|| {
+            failure(
+                StrataStatus::InvalidArgument,
+                format!("mapping kind {kind} is unknown (0 to 7: STRATA_MAPPING_*)"),
+            )
+        })?;
         // SAFETY: per the calling function's contract.
         let (values, out) = unsafe {
             (
@@ -688,67 +518,7 @@ unsafe fn map_arrays(
                 output(out, out_len, "out")?,
             )
         };
-        let n = rows(values, in_dims, "values")?;
-        let out = room(out, times(n, out_dims, "out")?, "out")?;
-        let cone = if kind == 7 {
-            Cone::from_sin2(cone)
-        } else {
-            Cone::from_cos(cone)
-        };
-        let v2 = |r: &[f32]| Vec2::new(r[0], r[1]);
-        let v3 = |r: &[f32]| Vec3::new(r[0], r[1], r[2]);
-        for (r, o) in values
-            .chunks_exact(in_dims)
-            .zip(out.chunks_exact_mut(out_dims))
-        {
-            match (op, kind) {
-                (Op::Sample, 0) => {
-                    o.copy_from_slice(&mapping::sample_uniform_sphere(v2(r)).to_array())
-                }
-                (Op::Sample, 1) => {
-                    o.copy_from_slice(&mapping::sample_uniform_hemisphere(v2(r)).to_array())
-                }
-                (Op::Sample, 2) => {
-                    o.copy_from_slice(&mapping::sample_cosine_hemisphere(v2(r)).to_array())
-                }
-                (Op::Sample, 3) => {
-                    o.copy_from_slice(&mapping::sample_concentric_disk(v2(r)).to_array())
-                }
-                (Op::Sample, 4) => o.copy_from_slice(&mapping::sample_polar_disk(v2(r)).to_array()),
-                (Op::Sample, 5) => {
-                    o.copy_from_slice(&mapping::sample_uniform_ball(v3(r)).to_array())
-                }
-                (Op::Sample, _) => {
-                    o.copy_from_slice(&mapping::sample_uniform_cone(v2(r), cone).to_array())
-                }
-                (Op::Pdf, 0) => o[0] = mapping::pdf_uniform_sphere(v3(r)),
-                (Op::Pdf, 1) => o[0] = mapping::pdf_uniform_hemisphere(v3(r)),
-                (Op::Pdf, 2) => o[0] = mapping::pdf_cosine_hemisphere(v3(r)),
-                (Op::Pdf, 3) => o[0] = mapping::pdf_concentric_disk(v2(r)),
-                (Op::Pdf, 4) => o[0] = mapping::pdf_polar_disk(v2(r)),
-                (Op::Pdf, 5) => o[0] = mapping::pdf_uniform_ball(v3(r)),
-                (Op::Pdf, _) => o[0] = mapping::pdf_uniform_cone(v3(r), cone),
-                (Op::Invert, 0) => {
-                    o.copy_from_slice(&mapping::invert_uniform_sphere(v3(r)).to_array())
-                }
-                (Op::Invert, 1) => {
-                    o.copy_from_slice(&mapping::invert_uniform_hemisphere(v3(r)).to_array())
-                }
-                (Op::Invert, 2) => {
-                    o.copy_from_slice(&mapping::invert_cosine_hemisphere(v3(r)).to_array())
-                }
-                (Op::Invert, 3) => {
-                    o.copy_from_slice(&mapping::invert_concentric_disk(v2(r)).to_array())
-                }
-                (Op::Invert, 4) => o.copy_from_slice(&mapping::invert_polar_disk(v2(r)).to_array()),
-                (Op::Invert, 5) => {
-                    o.copy_from_slice(&mapping::invert_uniform_ball(v3(r)).to_array())
-                }
-                (Op::Invert, _) => {
-                    o.copy_from_slice(&mapping::invert_uniform_cone(v3(r), cone).to_array())
-                }
-            }
-        }
+        map_rows(op, m, cone, values, out).map_err(batch_failure)?;
         Ok(())
     })
 }
@@ -772,7 +542,7 @@ pub unsafe extern "C" fn strata_mapping_sample(
     out_len: usize,
 ) -> StrataStatus {
     // SAFETY: the contract is this function's.
-    unsafe { map_arrays(Op::Sample, kind, cone, u, u_len, out, out_len) }
+    unsafe { map_arrays(MapOp::Sample, kind, cone, u, u_len, out, out_len) }
 }
 
 /// The density of each point row of `points` (with respect to solid
@@ -791,7 +561,7 @@ pub unsafe extern "C" fn strata_mapping_pdf(
     out_len: usize,
 ) -> StrataStatus {
     // SAFETY: the contract is this function's.
-    unsafe { map_arrays(Op::Pdf, kind, cone, points, points_len, out, out_len) }
+    unsafe { map_arrays(MapOp::Pdf, kind, cone, points, points_len, out, out_len) }
 }
 
 /// The sample row that maps to each point row of `points`, into `out`.
@@ -808,7 +578,7 @@ pub unsafe extern "C" fn strata_mapping_invert(
     out_len: usize,
 ) -> StrataStatus {
     // SAFETY: the contract is this function's.
-    unsafe { map_arrays(Op::Invert, kind, cone, points, points_len, out, out_len) }
+    unsafe { map_arrays(MapOp::Invert, kind, cone, points, points_len, out, out_len) }
 }
 
 // ------------------------------------------------------------ bases
@@ -851,46 +621,12 @@ unsafe fn onb_arrays(
                 output(out, out_len, "out")?,
             )
         };
-        let n = rows(normals, 3, "normals")?;
-        if dirs.len() != normals.len() {
-            return Err(failure(
-                StrataStatus::ShortBuffer,
-                format!(
-                    "dirs holds {} floats; {n} normals need {}",
-                    dirs.len(),
-                    normals.len()
-                ),
-            ));
-        }
-        let out = room(out, normals.len(), "out")?;
-        for (i, ((nr, d), o)) in normals
-            .chunks_exact(3)
-            .zip(dirs.chunks_exact(3))
-            .zip(out.chunks_exact_mut(3))
-            .enumerate()
-        {
-            let nv = Vec3::new(nr[0], nr[1], nr[2]);
-            // The rule of the core's unit directions (`Ray::try_new`).
-            if Ray::try_new(Vec3::ZERO, nv).is_none() {
-                return Err(failure(
-                    StrataStatus::InvalidArgument,
-                    format!("normal {i} ({nv}) is not unit length (|n·n − 1| ≤ 16 ε)"),
-                ));
-            }
-            let basis = if kind == 1 {
-                Onb::from_normal_axis_switch(nv)
-            } else {
-                Onb::from_normal(nv)
-            };
-            let dv = Vec3::new(d[0], d[1], d[2]);
-            let r = if to_world {
-                basis.to_world(dv)
-            } else {
-                basis.to_local(dv)
-            };
-            o.copy_from_slice(&r.to_array());
-        }
-        Ok(())
+        let basis = if kind == 1 {
+            Basis::AxisSwitch
+        } else {
+            Basis::Duff
+        };
+        onb_rows(to_world, basis, normals, dirs, out).map_err(batch_failure)
     })
 }
 
@@ -989,31 +725,6 @@ const MISS: StrataHit = StrataHit {
     t: f32::INFINITY,
     id: u32::MAX,
 };
-
-/// The core's ray, if `r` is one (see [`StrataRay`]): `Ray::try_new`'s
-/// rule (a unit direction, which rules out infinite and NaN ones; a
-/// finite origin) and no NaN bound, tested without branches (a batch
-/// pays a few instructions a ray for it).
-#[inline(always)]
-fn checked_ray(r: &StrataRay) -> Option<Ray> {
-    let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
-    let unit = (d.dot(d) - 1.0).abs() <= 16.0 * f32::EPSILON;
-    // 0 · x is 0 for a finite x and NaN for an infinite or NaN one.
-    let finite = (o * 0.0).dot(Vec3::ONE) == 0.0;
-    let bounds = !r.t_min.is_nan() & !r.t_max.is_nan();
-    (unit & finite & bounds).then(|| Ray::new(o, d).with_range(r.t_min, r.t_max))
-}
-
-/// Why ray `i` was refused.
-#[cold]
-fn bad_ray(r: &StrataRay, i: usize) -> Failure {
-    let why = if r.t_min.is_nan() || r.t_max.is_nan() {
-        "t_min or t_max is NaN"
-    } else {
-        "the origin is not finite or the direction not unit length"
-    };
-    failure(StrataStatus::InvalidArgument, format!("rays[{i}]: {why}"))
-}
 
 /// The alignment, in bytes, of the storage every BVH call takes.
 const STORAGE_ALIGN: usize = 64;
@@ -1212,8 +923,8 @@ unsafe fn over_rays<T>(
     let (rays, out) = unsafe { (input(rays, n, "rays")?, output(out, out_len, "out")?) };
     let out = room(out, n, "out")?;
     for (i, (r, o)) in rays.iter().zip(out).enumerate() {
-        let Some(ray) = checked_ray(r) else {
-            return Err(bad_ray(r, i));
+        let Some(ray) = checked_ray(r.origin, r.dir, r.t_min, r.t_max) else {
+            return Err(batch_failure(ray_error(i, r.t_min, r.t_max)));
         };
         *o = query(&ray);
     }
@@ -1586,18 +1297,6 @@ fn invalid(e: anyhow::Error) -> Failure {
     failure(StrataStatus::InvalidArgument, format!("{e:#}"))
 }
 
-/// `strata render`'s settings (clap ids) that name files or the run, not
-/// the image: refused however they are spelt (`-o x`, `-ox`, `--output=x`).
-const NOT_FOR_LIBRARIES: [&str; 7] = [
-    "output",
-    "stats",
-    "spp_map",
-    "checkpoint",
-    "no_checkpoint",
-    "resume",
-    "threads",
-];
-
 /// Plans a render from the flags of `strata render` (`flags[0..n]`, for
 /// example `{"--scene", "cover", "--spp", "64", "--width", "400"}`: a
 /// built-in scene or a TOML file, the size, samples, sampler, seed,
@@ -1622,7 +1321,7 @@ pub unsafe extern "C" fn strata_render_new(
         out[0] = std::ptr::null_mut(); // what a failure leaves
         // SAFETY: per this function's contract.
         let flags = unsafe { input(flags, n, "flags") }?;
-        let mut argv = vec!["strata".to_string(), "render".to_string()];
+        let mut argv = Vec::with_capacity(flags.len());
         for (i, &f) in flags.iter().enumerate() {
             if f.is_null() {
                 return Err(null(&format!("flags[{i}]")));
@@ -1638,38 +1337,8 @@ pub unsafe extern "C" fn strata_render_new(
                 })?;
             argv.push(text.to_string());
         }
-        let args = match Cli::parse_with_sources(&argv) {
-            Ok(Cli {
-                command: Some(Command::Render(args)),
-                ..
-            }) => args,
-            Ok(_) => return Err(failure(StrataStatus::InvalidArgument, "not a render")),
-            Err(e) => {
-                // clap's first line says what is wrong; the rest is usage.
-                let text = e.to_string();
-                let first = text.lines().next().unwrap_or("invalid flags");
-                return Err(failure(
-                    StrataStatus::InvalidArgument,
-                    first.trim_start_matches("error: ").to_string(),
-                ));
-            }
-        };
-        if let Some(id) = args
-            .given
-            .iter()
-            .find(|g| NOT_FOR_LIBRARIES.contains(&g.as_str()))
-        {
-            return Err(failure(
-                StrataStatus::InvalidArgument,
-                format!(
-                    "--{}: a library render writes into your buffers, on the threads you give",
-                    id.replace('_', "-")
-                ),
-            ));
-        }
-        let scene = resolve_scene(&args.scene).map_err(invalid)?;
+        let (args, scene) = library_render(&argv).map_err(invalid)?;
         let render = StrataRender { args, scene };
-        render.job()?;
         out[0] = Box::into_raw(Box::new(render));
         Ok(())
     })

@@ -1,0 +1,599 @@
+//! `strata._strata`: the native module of the `strata` Python package.
+//!
+//! Every call takes and returns whole numpy arrays and releases the GIL
+//! while it works. The Python layer (`python/strata/`) turns the caller's
+//! arrays into the exact dtypes and shapes these functions take; this
+//! module checks what it is given again (sizes, finite values, names)
+//! through the runner's shared batch checks
+//! ([`strata_runner::batch`]), whose messages become `ValueError`s.
+//! Values are the Rust core's, bit for bit.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use strata::Sampler as _;
+use strata::glam::{UVec2, Vec3};
+use strata::render::PixelSum;
+use strata::trace::{BvhStack, OwnedBvh, Sphere, simd_level};
+use strata_runner::batch::{
+    AnySampler, Basis, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
+};
+use strata_runner::cli::library_render;
+use strata_runner::golden;
+use strata_runner::job::{Outcome, Resume, SamplerKind, run_resumable};
+
+/// A refusal of the shared checks as a `ValueError`.
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// A vector of `n` zeros, or a `MemoryError` (not an abort) when the
+/// allocation fails.
+fn zeros<T: Clone + Default>(n: usize, what: &str) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| PyMemoryError::new_err(format!("{what}: cannot allocate {n} values")))?;
+    v.resize(n, T::default());
+    Ok(v)
+}
+
+/// `a · b`, or a `ValueError` for sizes past `usize`.
+fn times(a: usize, b: usize, what: &str) -> PyResult<usize> {
+    strata_runner::batch::times(a, b, what).map_err(value_error)
+}
+
+/// The contiguous values of an array (the Python layer makes them so).
+fn slice<'a, T: numpy::Element, D: numpy::ndarray::Dimension>(
+    a: &'a numpy::PyReadonlyArray<'_, T, D>,
+    what: &str,
+) -> PyResult<&'a [T]> {
+    a.as_slice()
+        .map_err(|_| value_error(format!("{what} is not a contiguous array")))
+}
+
+/// Refuses NaN and infinite values (`what` names the array).
+fn check_finite(values: &[f32], what: &str) -> PyResult<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(value_error(format!(
+            "{what}: value {i} is {}; values must be finite",
+            values[i]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// A `(rows, cols)` array from a vector of `rows · cols` values.
+fn matrix<'py, T: numpy::Element>(
+    py: Python<'py>,
+    v: Vec<T>,
+    rows: usize,
+    cols: usize,
+) -> PyResult<Bound<'py, PyArray2<T>>> {
+    PyArray1::from_vec(py, v).reshape([rows, cols])
+}
+
+// ------------------------------------------------------------ build facts
+
+/// The SIMD level the module was compiled for: `"sse2"` for the portable
+/// x86-64 build the package makes; every level gives the same values.
+#[pyfunction]
+fn simd() -> &'static str {
+    simd_level().name()
+}
+
+/// The output revision: it changes whenever a seeded render's pixels do.
+#[pyfunction]
+fn output_revision() -> u32 {
+    strata::render::OUTPUT_REVISION
+}
+
+/// The sampler kinds' names, in the C API's numbering.
+#[pyfunction]
+fn sampler_kinds() -> Vec<&'static str> {
+    SamplerKind::ALL.iter().map(|k| k.name()).collect()
+}
+
+/// The mappings' names, in the C API's numbering.
+#[pyfunction]
+fn mapping_names() -> Vec<&'static str> {
+    Mapping::ALL.iter().map(|m| m.name()).collect()
+}
+
+/// The sampler kind named `name`.
+fn sampler_kind(name: &str) -> PyResult<SamplerKind> {
+    SamplerKind::ALL
+        .into_iter()
+        .find(|k| k.name() == name)
+        .ok_or_else(|| {
+            value_error(format!(
+                "unknown sampler {name:?}: one of {}",
+                sampler_kinds().join(", ")
+            ))
+        })
+}
+
+// ------------------------------------------------------------ samplers
+
+/// A pixel sampler of one kind, spp and seed (and, for `zsobol`, image
+/// resolution).
+#[pyclass(module = "strata._strata")]
+struct Sampler {
+    inner: AnySampler,
+}
+
+#[pymethods]
+impl Sampler {
+    #[new]
+    fn new(kind: &str, spp: u32, seed: u64, width: u32, height: u32) -> PyResult<Self> {
+        let kind = sampler_kind(kind)?;
+        let inner =
+            AnySampler::new(kind, spp, seed, UVec2::new(width, height)).map_err(value_error)?;
+        Ok(Sampler { inner })
+    }
+
+    /// Samples per pixel, as built.
+    #[getter]
+    fn spp(&self) -> u32 {
+        self.inner.samples_per_pixel()
+    }
+
+    /// The first `dims` dimensions of pixel samples `(pixels[i], indices[i])`
+    /// as `(n, dims)` float32 rows.
+    fn fill<'py>(
+        &mut self,
+        py: Python<'py>,
+        pixels: PyReadonlyArray2<'py, u32>,
+        indices: PyReadonlyArray1<'py, u32>,
+        dims: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let (p, i) = (slice(&pixels, "pixels")?, slice(&indices, "indices")?);
+        let n = i.len();
+        let mut out = zeros::<f32>(times(n, dims, "the samples")?, "the samples")?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.fill(p, i, dims, &mut out))
+            .map_err(value_error)?;
+        matrix(py, out, n, dims)
+    }
+
+    /// Samples `first .. first + n` of pixel `(x, y)`, `dims` dimensions
+    /// each, as `(n, dims)` float64 rows (the values are float32's, exactly).
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: u32,
+        y: u32,
+        first: u32,
+        n: usize,
+        dims: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut out = zeros::<f64>(times(n, dims, "the samples")?, "the samples")?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.fill_pixel(UVec2::new(x, y), first, dims, &mut out))
+            .map_err(value_error)?;
+        matrix(py, out, n, dims)
+    }
+}
+
+/// The same values as [`Sampler::run`] drawn through the core's public
+/// per-sample API into a vector (`start_pixel_sample`, `pixel_2d`,
+/// `next_2d` pairs, `next_1d` for an odd last), timed in Rust: the
+/// benchmark's reference. Returns the seconds and the values' checksum
+/// (the sum of their bits, which the batch's must equal).
+#[pyfunction]
+fn per_sample_reference(
+    py: Python<'_>,
+    kind: &str,
+    spp: u32,
+    seed: u64,
+    n: u32,
+    dims: usize,
+) -> PyResult<(f64, u64)> {
+    let kind = sampler_kind(kind)?;
+    let mut s = AnySampler::new(kind, spp, seed, UVec2::ONE).map_err(value_error)?;
+    let mut out: Vec<f64> = zeros(times(n as usize, dims, "the samples")?, "the samples")?;
+    Ok(py.detach(|| {
+        let start = Instant::now();
+        strata_runner::with_any_sampler!(&mut s, s => {
+            out.clear();
+            for i in 0..n {
+                s.start_pixel_sample(UVec2::ZERO, i);
+                let p = s.pixel_2d();
+                out.extend([f64::from(p.x), f64::from(p.y)].iter().take(dims));
+                let mut d = 2;
+                while d + 2 <= dims {
+                    let v = s.next_2d();
+                    out.extend([f64::from(v.x), f64::from(v.y)]);
+                    d += 2;
+                }
+                if d < dims {
+                    out.push(s.next_1d().into());
+                }
+            }
+        });
+        let seconds = start.elapsed().as_secs_f64();
+        let sum = out.iter().fold(0u64, |a, v| a.wrapping_add(v.to_bits()));
+        (seconds, sum)
+    }))
+}
+
+// ------------------------------------------------------------ mappings and bases
+
+/// One operation (`"sample"`, `"pdf"`, `"invert"`) of the mapping `name`
+/// over the rows of `values`.
+#[pyfunction]
+fn map<'py>(
+    py: Python<'py>,
+    op: &str,
+    name: &str,
+    cone: f32,
+    values: PyReadonlyArray2<'py, f32>,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let op = match op {
+        "sample" => MapOp::Sample,
+        "pdf" => MapOp::Pdf,
+        "invert" => MapOp::Invert,
+        _ => return Err(value_error(format!("unknown operation {op:?}"))),
+    };
+    let m = Mapping::from_name(name).map_err(value_error)?;
+    let v = slice(&values, "the input")?;
+    let (in_dims, out_dims) = op.arity(m);
+    if values.shape()[1] != in_dims {
+        return Err(value_error(format!(
+            "{name} {}: rows of {in_dims} values, not {}",
+            match op {
+                MapOp::Sample => "samples",
+                _ => "points",
+            },
+            values.shape()[1]
+        )));
+    }
+    if !cone.is_finite() {
+        return Err(value_error(format!("cone {cone} is not finite")));
+    }
+    let n = values.shape()[0];
+    let mut out = zeros::<f32>(times(n, out_dims, "the output")?, "the output")?;
+    py.detach(|| -> Result<(), PyErr> {
+        check_finite(v, "the input")?;
+        if op == MapOp::Sample
+            && let Some(i) = v.iter().position(|u| !(0.0..=1.0).contains(u))
+        {
+            return Err(value_error(format!(
+                "sample value {i} is {}: samples lie in [0, 1]",
+                v[i]
+            )));
+        }
+        map_rows(op, m, cone, v, &mut out).map_err(value_error)?;
+        Ok(())
+    })?;
+    matrix(py, out, n, out_dims)
+}
+
+/// Directions into (`to_world`) or out of the bases about unit normals.
+#[pyfunction]
+fn onb<'py>(
+    py: Python<'py>,
+    to_world: bool,
+    basis: &str,
+    normals: PyReadonlyArray2<'py, f32>,
+    dirs: PyReadonlyArray2<'py, f32>,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let basis = match basis {
+        "duff" => Basis::Duff,
+        "axis_switch" => Basis::AxisSwitch,
+        _ => {
+            return Err(value_error(format!(
+                "unknown basis {basis:?}: \"duff\" or \"axis_switch\""
+            )));
+        }
+    };
+    let (nv, dv) = (slice(&normals, "normals")?, slice(&dirs, "dirs")?);
+    if normals.shape()[1] != 3 || dirs.shape() != normals.shape() {
+        return Err(value_error(format!(
+            "normals and dirs: two (n, 3) arrays, not {:?} and {:?}",
+            normals.shape(),
+            dirs.shape()
+        )));
+    }
+    let n = normals.shape()[0];
+    let mut out = zeros::<f32>(nv.len(), "the output")?;
+    py.detach(|| -> PyResult<()> {
+        check_finite(dv, "dirs")?;
+        onb_rows(to_world, basis, nv, dv, &mut out).map_err(value_error)
+    })?;
+    matrix(py, out, n, 3)
+}
+
+// ------------------------------------------------------------ tracing
+
+/// Spheres in a BVH (hits equal the brute-force loop's, bit for bit).
+#[pyclass(module = "strata._strata", frozen)]
+struct Spheres {
+    bvh: OwnedBvh,
+    count: usize,
+}
+
+#[pymethods]
+impl Spheres {
+    #[new]
+    fn new(py: Python<'_>, spheres: PyReadonlyArray2<'_, f32>) -> PyResult<Self> {
+        if spheres.shape()[1] != 4 {
+            return Err(value_error(format!(
+                "spheres: rows of x, y, z, radius, not {} values",
+                spheres.shape()[1]
+            )));
+        }
+        let s = slice(&spheres, "spheres")?;
+        let list: Vec<Sphere> = s
+            .chunks_exact(4)
+            .map(|r| Sphere::new(Vec3::new(r[0], r[1], r[2]), r[3]))
+            .collect();
+        let bvh = py
+            .detach(|| OwnedBvh::build(&list))
+            .map_err(|e| value_error(format!("spheres: {e}")))?;
+        Ok(Spheres {
+            bvh,
+            count: list.len(),
+        })
+    }
+
+    fn __len__(&self) -> usize {
+        self.count
+    }
+
+    /// The closest hit of each ray: `(t, id)` arrays, `id` −1 and `t`
+    /// infinite for a miss.
+    fn closest_hit<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<Hits<'py>> {
+        let r = ray_rows(&rays)?;
+        let n = r.len() / 8;
+        let mut t = zeros::<f32>(n, "t")?;
+        let mut id = zeros::<i64>(n, "ids")?;
+        let view = self.bvh.view();
+        py.detach(|| -> PyResult<()> {
+            let mut stack = BvhStack::new();
+            for (i, row) in r.chunks_exact(8).enumerate() {
+                let ray = ray_of(i, row)?;
+                match view.closest_hit_with(&ray, &mut stack) {
+                    Some(h) => (t[i], id[i]) = (h.t, i64::from(h.sphere)),
+                    None => (t[i], id[i]) = (f32::INFINITY, -1),
+                }
+            }
+            Ok(())
+        })?;
+        Ok((PyArray1::from_vec(py, t), PyArray1::from_vec(py, id)))
+    }
+
+    /// Whether each ray hits anything.
+    fn any_hit<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let r = ray_rows(&rays)?;
+        let mut hit = zeros::<bool>(r.len() / 8, "hits")?;
+        let view = self.bvh.view();
+        py.detach(|| -> PyResult<()> {
+            let mut stack = BvhStack::new();
+            for (i, row) in r.chunks_exact(8).enumerate() {
+                hit[i] = view.any_hit_with(&ray_of(i, row)?, &mut stack);
+            }
+            Ok(())
+        })?;
+        Ok(PyArray1::from_vec(py, hit))
+    }
+}
+
+/// Closest hits: each ray's `t` and sphere index (−1 for none).
+type Hits<'py> = (Bound<'py, PyArray1<f32>>, Bound<'py, PyArray1<i64>>);
+
+/// Rays as rows of `ox, oy, oz, dx, dy, dz, t_min, t_max`.
+fn ray_rows<'a>(rays: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [f32]> {
+    if rays.shape()[1] != 8 {
+        return Err(value_error(format!(
+            "rays: rows of 8 values (origin, direction, t_min, t_max), not {}",
+            rays.shape()[1]
+        )));
+    }
+    slice(rays, "rays")
+}
+
+/// The checked ray of row `i`.
+fn ray_of(i: usize, r: &[f32]) -> PyResult<strata::trace::Ray> {
+    checked_ray([r[0], r[1], r[2]], [r[3], r[4], r[5]], r[6], r[7])
+        .ok_or_else(|| value_error(ray_error(i, r[6], r[7])))
+}
+
+// ------------------------------------------------------------ rendering
+
+/// A finished render's exact film: the sums the golden table hashes.
+#[pyclass(module = "strata._strata", frozen)]
+struct Film {
+    pixels: Vec<PixelSum>,
+    width: usize,
+    height: usize,
+    /// Where the rendered window (the image unless cropped) sits in the
+    /// film, which for a splatted filter may also hold a margin around
+    /// it: `x, y, width, height`.
+    window: [usize; 4],
+}
+
+#[pymethods]
+impl Film {
+    /// `(height, width)` of the film (the window and any splat margin).
+    #[getter]
+    fn shape(&self) -> (usize, usize) {
+        (self.height, self.width)
+    }
+
+    /// Where the rendered window sits in the film: `(x, y, width,
+    /// height)`; the whole film unless a splatted filter's margin around
+    /// a cropped window is kept.
+    #[getter]
+    fn window(&self) -> (usize, usize, usize, usize) {
+        let [x, y, w, h] = self.window;
+        (x, y, w, h)
+    }
+
+    /// The golden table's FNV-1a 64 of the sums.
+    fn hash(&self) -> u64 {
+        golden::film_hash(&self.pixels)
+    }
+
+    /// The window's pixels (the filter's weighted mean of each),
+    /// `(h, w, 3)` float32 linear RGB.
+    fn rgb<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f32>>> {
+        let [x, y, w, h] = self.window;
+        let mut v = zeros::<f32>(times(w * h, 3, "rgb")?, "rgb")?;
+        for (row, out) in v.chunks_exact_mut(3 * w).enumerate() {
+            let film = &self.pixels[(y + row) * self.width + x..][..w];
+            for (o, p) in out.chunks_exact_mut(3).zip(film) {
+                o.copy_from_slice(&p.mean().to_array());
+            }
+        }
+        PyArray1::from_vec(py, v).reshape([h, w, 3])
+    }
+
+    /// The weighted sums `Σ w·L` (r, g, b) and `Σ w`, in units of `2⁻²⁴`,
+    /// `(h, w, 4)` int64.
+    fn sums<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<i64>>> {
+        let mut v = zeros::<i64>(times(self.pixels.len(), 4, "sums")?, "sums")?;
+        for (o, p) in v.chunks_exact_mut(4).zip(&self.pixels) {
+            o[..3].copy_from_slice(&p.sum);
+            o[3] = p.weight;
+        }
+        PyArray1::from_vec(py, v).reshape([self.height, self.width, 4])
+    }
+
+    /// Samples taken per pixel, `(h, w)` uint32.
+    fn samples<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<u32>>> {
+        let v: Vec<u32> = self.pixels.iter().map(|p| p.samples).collect();
+        matrix(py, v, self.height, self.width)
+    }
+
+    /// Samples dropped per pixel for a NaN or infinite value, `(h, w)`.
+    fn dropped<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<u32>>> {
+        let v: Vec<u32> = self.pixels.iter().map(|p| p.dropped).collect();
+        matrix(py, v, self.height, self.width)
+    }
+}
+
+/// How often a waiting render looks at Ctrl-C and calls `progress`.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Renders with the flags of `strata render` on `threads` threads,
+/// returning the film. Ctrl-C (any pending Python signal) stops it
+/// within about one tile's time; `progress(done, total)` is called with
+/// pixels finished.
+#[pyfunction]
+#[pyo3(signature = (flags, threads, progress=None))]
+fn render(
+    py: Python<'_>,
+    flags: Vec<String>,
+    threads: u32,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<Film> {
+    let (mut args, scene) = library_render(&flags).map_err(|e| value_error(format!("{e:#}")))?;
+    // Past u16 is past the check's limit anyway: saturate into it.
+    args.threads = u16::try_from(threads).unwrap_or(u16::MAX);
+    let job = args
+        .job(&scene)
+        .map_err(|e| value_error(format!("{e:#}")))?;
+    let total = u64::from(job.window.width) * u64::from(job.window.height);
+    let stop = AtomicBool::new(false);
+    let over = AtomicBool::new(false);
+    let done = AtomicU64::new(0);
+    let outcome = std::thread::scope(|s| -> PyResult<_> {
+        let worker = s.spawn(|| {
+            let resume = Resume {
+                done: Vec::new(),
+                on_tile: &|_| Ok(()),
+                stop: &stop,
+            };
+            let r = run_resumable(
+                &job,
+                &|n| {
+                    done.fetch_add(n, Ordering::Relaxed);
+                },
+                resume,
+            );
+            over.store(true, Ordering::Release);
+            r
+        });
+        let mut reported = u64::MAX;
+        loop {
+            py.detach(|| {
+                let until = Instant::now() + POLL;
+                while !over.load(Ordering::Acquire) && Instant::now() < until {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            });
+            let mut failed = py.check_signals().err();
+            let now = done.load(Ordering::Relaxed);
+            if failed.is_none()
+                && now != reported
+                && let Some(cb) = &progress
+            {
+                reported = now;
+                failed = cb.call1((now, total)).err();
+            }
+            if let Some(e) = failed {
+                stop.store(true, Ordering::Relaxed);
+                // The tiles in flight finish; nothing else starts.
+                let _ = py.detach(|| worker.join());
+                return Err(e);
+            }
+            if over.load(Ordering::Acquire) {
+                break;
+            }
+        }
+        py.detach(|| worker.join())
+            .map_err(|_| PyRuntimeError::new_err("the render thread panicked"))
+    })?;
+    match outcome.map_err(|e| value_error(format!("{e:#}")))? {
+        Outcome::Finished(r) => {
+            let (w, ext) = (
+                job.window,
+                job.layout().extent(job.window, job.width, job.height),
+            );
+            Ok(Film {
+                pixels: r.pixels,
+                width: ext.width as usize,
+                height: ext.height as usize,
+                window: [
+                    (w.x0 - ext.x0) as usize,
+                    (w.y0 - ext.y0) as usize,
+                    w.width as usize,
+                    w.height as usize,
+                ],
+            })
+        }
+        Outcome::Stopped { .. } => Err(PyRuntimeError::new_err("the render stopped early")),
+    }
+}
+
+/// The module.
+#[pymodule]
+fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(simd, m)?)?;
+    m.add_function(wrap_pyfunction!(output_revision, m)?)?;
+    m.add_function(wrap_pyfunction!(sampler_kinds, m)?)?;
+    m.add_function(wrap_pyfunction!(mapping_names, m)?)?;
+    m.add_function(wrap_pyfunction!(per_sample_reference, m)?)?;
+    m.add_function(wrap_pyfunction!(map, m)?)?;
+    m.add_function(wrap_pyfunction!(onb, m)?)?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_class::<Sampler>()?;
+    m.add_class::<Spheres>()?;
+    m.add_class::<Film>()?;
+    Ok(())
+}
