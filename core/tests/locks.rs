@@ -157,6 +157,49 @@ fn sampler_lock() {
     }
 }
 
+/// Rows of the renderer's draw order (`pixel_2d`, then `next_2d` pairs,
+/// then `next_1d`: 7 dimensions) for 64 pixel samples, pixel
+/// `(37k mod 320, 11k mod 180)` and index `k mod 16`, FNV-1a over their
+/// bits: what the bindings' batch calls (C's `strata_sampler_fill`,
+/// Python's `pixel_samples` and engines) give, per kind as
+/// [`SAMPLER_LOCK`] builds it.
+fn sample_rows<S: Sampler>(s: &mut S) -> u64 {
+    let mut words = Vec::new();
+    for k in 0..64u32 {
+        s.start_pixel_sample(UVec2::new(37 * k % 320, 11 * k % 180), k % 16);
+        let p = s.pixel_2d();
+        let (a, b) = (s.next_2d(), s.next_2d());
+        let c = s.next_1d();
+        words.extend([p.x, p.y, a.x, a.y, b.x, b.y, c].map(f32::to_bits));
+    }
+    fnv(words)
+}
+
+/// [`sample_rows`] of each kind, in [`SAMPLER_LOCK`]'s order.
+const SAMPLER_ROWS_LOCK: [u64; 7] = [
+    0x820132544dbba419,
+    0xee43b4fd1669a62c,
+    0xe79082f11b03ecf8,
+    0x8fa70b22c51e38d6,
+    0x41377895593f164d,
+    0x98a768f03fdfd8f8,
+    0x6071861c505f91a1,
+];
+
+#[test]
+fn sampler_rows_lock() {
+    let got = [
+        sample_rows(&mut Independent::new(16, 2026).unwrap()),
+        sample_rows(&mut UniformGrid::new(16, 2026).unwrap()),
+        sample_rows(&mut Stratified::new(16, 2026).unwrap()),
+        sample_rows(&mut strata::Sobol::new(16, 2026).unwrap()),
+        sample_rows(&mut strata::Halton::new(16, 2026).unwrap()),
+        sample_rows(&mut strata::ZSobol::new(16, 2026, UVec2::new(320, 180)).unwrap()),
+        sample_rows(&mut strata::ZSobol::new(256, 2026, UVec2::splat(1 << 20)).unwrap()),
+    ];
+    assert_eq!(got, SAMPLER_ROWS_LOCK, "rows changed: {got:#018x?}\n{CHANGED}");
+}
+
 /// FNV-1a over 32-bit words. Its own copy: this test belongs to the core
 /// package, which cannot depend on the runner (the runner depends on it),
 /// and the runner's `hash.rs` is the one FNV-1a everywhere else.
@@ -419,6 +462,11 @@ fn locks_json() -> String {
         let words: Vec<String> = v.iter().map(|w| w.to_string()).collect();
         let comma = if k + 1 < SAMPLER_LOCK.len() { "," } else { "" };
         out += &format!("    \"{name}\": [{}]{comma}\n", words.join(", "));
+    }
+    out += "  },\n  \"sampler_rows_fnv\": {\n";
+    for (k, ((name, _), h)) in SAMPLER_LOCK.iter().zip(SAMPLER_ROWS_LOCK).enumerate() {
+        let comma = if k + 1 < SAMPLER_LOCK.len() { "," } else { "" };
+        out += &format!("    \"rows_{name}\": \"{h:#018x}\"{comma}\n");
     }
     out += "  },\n  \"mapping_fnv\": {\n";
     for (k, (name, h)) in MAPPING_LOCK.iter().enumerate() {

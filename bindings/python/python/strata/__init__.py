@@ -317,8 +317,9 @@ def render(scene="week09", *, threads=None, progress=None, film=False, **setting
     """Renders ``scene`` (a built-in name or a TOML file's path) with the
     settings of ``strata render``, given as keywords: ``width``,
     ``height``, ``spp``, ``sampler``, ``seed``, ``filter``, ``max_depth``,
-    ``adaptive``... (``--max-depth 8`` is ``max_depth=8``; ``True`` gives a
-    bare flag). They pass the command line's one check; its message is the
+    ``adaptive``, ``crop``... (``--max-depth 8`` is ``max_depth=8``;
+    ``True`` gives a bare flag, a tuple a comma list such as ``crop=(0,
+    0.5, 0, 0.5)``, a ``range`` the sample range ``samples=range(0, 8)``). They pass the command line's one check; its message is the
     ``ValueError``.
 
     Returns the image as float32 linear RGB of shape ``(height, width,
@@ -348,6 +349,10 @@ def render(scene="week09", *, threads=None, progress=None, film=False, **setting
             continue
         elif isinstance(value, (str, int, float, np.integer, np.floating, os.PathLike)):
             flags += [flag, os.fspath(value) if isinstance(value, os.PathLike) else str(value)]
+        elif isinstance(value, range):
+            if value.step != 1:
+                raise ValueError(f"{key}=: a range of step 1, not {value}")
+            flags += [flag, f"{value.start}..{value.stop}"]
         elif isinstance(value, (tuple, list)):
             flags += [flag, ",".join(str(v) for v in value)]
         else:

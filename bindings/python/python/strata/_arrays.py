@@ -48,7 +48,8 @@ def uints(values, name: str) -> np.ndarray:
         raise TypeError(f"{name}: expected integers, not dtype {a.dtype}")
     if a.size and (a.min() < 0 or a.max() > U32_MAX):
         raise ValueError(f"{name}: values must lie in [0, {U32_MAX}]")
-    return np.ascontiguousarray(a, dtype=np.uint32)
+    # (not ascontiguousarray, which makes a 0-d array 1-d)
+    return np.asarray(a, dtype=np.uint32, order="C")
 
 
 def seed_of(seed=None, rng=None) -> int:
