@@ -247,8 +247,8 @@ class Spheres:
 
     >>> import strata
     >>> s = strata.Spheres([[0, 0, -3, 1]])
-    >>> t, ids = s.closest_hit([0, 0, 0], [0, 0, -1])
-    >>> float(t[0]), int(ids[0])
+    >>> t, ids = s.closest_hit([0, 0, 0], [0, 0, -1])  # one ray: 0-d arrays
+    >>> float(t), int(ids)
     (2.0, 0)
     """
 
