@@ -10,6 +10,7 @@ use anyhow::Result;
 use strata::glam::{UVec2, Vec2, Vec3};
 use strata::mapping::{self, Cone};
 use strata::trace::Ray;
+use strata::sampler::draw_row;
 use strata::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::job::SamplerKind;
@@ -132,7 +133,7 @@ impl AnySampler {
     }
 
     /// Fills `out` with the first `dims` dimensions of many pixel
-    /// samples, one row of `dims` values each ([`draw`]): sample `i` is
+    /// samples, one row of `dims` values each ([`draw_row`]): sample `i` is
     /// pixel `(pixels[2i], pixels[2i + 1])`, index `indices[i]`. The
     /// sampler is left at the last sample.
     ///
@@ -167,60 +168,31 @@ impl AnySampler {
     }
 
     /// Fills `out` with `n = out.len() / dims` samples of one pixel,
-    /// indices `first, first + 1, …` (rows as [`AnySampler::fill`]).
+    /// indices `first, first + 1, …` (rows as [`AnySampler::fill`]), by
+    /// the kind's [`Sampler::fill_run`].
     ///
     /// # Errors
     /// [`BatchError::Size`] if `out` is not whole rows, or the indices
     /// would pass `u32::MAX`.
-    pub fn fill_pixel<T: From<f32>>(
+    pub fn fill_pixel(
         &mut self,
         pixel: UVec2,
         first: u32,
         dims: usize,
-        out: &mut [T],
+        out: &mut [f32],
     ) -> Result<(), BatchError> {
         if dims == 0 {
             return Ok(());
         }
         let n = rows(out, dims, "out")?;
-        if n > 0 && u32::try_from(n - 1).is_ok_and(|m| first.checked_add(m).is_none())
-            || u32::try_from(n).is_err()
-        {
+        if u64::from(first) + n as u64 > 1 << 32 {
             return Err(BatchError::Size(format!(
                 "{n} samples from index {first} pass the last index, {}",
                 u32::MAX
             )));
         }
-        let starts = (0..n as u32).map(|k| (pixel, first + k));
-        with_any_sampler!(self, s => fill_rows(s, starts, dims, out));
+        with_any_sampler!(self, s => s.fill_run(pixel, first, dims, out));
         Ok(())
-    }
-}
-
-/// The first `out.len()` dimensions of the current pixel sample: values 0
-/// and 1 are the position in the pixel (`pixel_2d`), then pairs from
-/// `next_2d`, and the last from `next_1d` when the length is odd (one
-/// dimension: the position's x). The renderer's order: a camera ray takes
-/// the position, then each bounce its pairs.
-#[inline(always)]
-pub fn draw<S: Sampler + ?Sized, T: From<f32>>(s: &mut S, out: &mut [T]) {
-    let Some((first, rest)) = out.split_first_mut() else {
-        return;
-    };
-    let p = s.pixel_2d();
-    *first = p.x.into();
-    let Some((second, rest)) = rest.split_first_mut() else {
-        return;
-    };
-    *second = p.y.into();
-    let mut pairs = rest.chunks_exact_mut(2);
-    for pair in &mut pairs {
-        let v = s.next_2d();
-        pair[0] = v.x.into();
-        pair[1] = v.y.into();
-    }
-    if let [last] = pairs.into_remainder() {
-        *last = s.next_1d().into();
     }
 }
 
@@ -234,7 +206,7 @@ fn rows_of<S: Sampler, T: From<f32>, const D: usize>(
 ) {
     for (row, (pixel, index)) in out.chunks_exact_mut(D).zip(starts) {
         s.start_pixel_sample(pixel, index);
-        draw(s, row);
+        draw_row(s, row);
     }
 }
 
@@ -253,7 +225,7 @@ fn fill_rows<S: Sampler, T: From<f32>>(
                 _ => {
                     for (row, (pixel, index)) in out.chunks_exact_mut(dims).zip(starts) {
                         s.start_pixel_sample(pixel, index);
-                        draw(s, row);
+                        draw_row(s, row);
                     }
                 }
             }

@@ -22,7 +22,7 @@ use strata::glam::{UVec2, Vec3};
 use strata::render::PixelSum;
 use strata::trace::{BvhStack, OwnedBvh, Sphere, simd_level};
 use strata_runner::batch::{
-    AnySampler, Basis, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
+    AnySampler, Basis, BatchError, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
 };
 use strata_runner::cli::library_render;
 use strata_runner::golden;
@@ -154,10 +154,18 @@ impl Sampler {
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let (p, i) = (slice(&pixels, "pixels")?, slice(&indices, "indices")?);
         let n = i.len();
-        let mut out = zeros::<f32>(times(n, dims, "the samples")?, "the samples")?;
+        if p.len() != times(n, 2, "pixels")? {
+            return Err(value_error(format!(
+                "pixels: {} values for {n} samples (x, y each)",
+                p.len()
+            )));
+        }
         let inner = &mut self.inner;
-        py.detach(|| inner.fill(p, i, dims, &mut out))
-            .map_err(value_error)?;
+        let out = py.detach(|| {
+            by_chunks(n, dims, |row, rows, chunk| {
+                inner.fill(&p[2 * row..2 * (row + rows)], &i[row..row + rows], dims, chunk)
+            })
+        })?;
         matrix(py, out, n, dims)
     }
 
@@ -172,12 +180,55 @@ impl Sampler {
         n: usize,
         dims: usize,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut out = zeros::<f64>(times(n, dims, "the samples")?, "the samples")?;
+        if u64::from(first) + n as u64 > 1 << 32 {
+            return Err(value_error(format!(
+                "{n} samples from index {first} pass the last index, {}",
+                u32::MAX
+            )));
+        }
         let inner = &mut self.inner;
-        py.detach(|| inner.fill_pixel(UVec2::new(x, y), first, dims, &mut out))
-            .map_err(value_error)?;
+        let out: Vec<f64> = py.detach(|| {
+            by_chunks(n, dims, |row, _, chunk| {
+                inner.fill_pixel(UVec2::new(x, y), first + row as u32, dims, chunk)
+            })
+        })?;
         matrix(py, out, n, dims)
     }
+}
+
+/// Rows the size of the L1 cache's share: values are made into a small
+/// scratch block and appended, so the output is written once (not
+/// zeroed first) and every value arrives as `T`.
+const CHUNK_VALUES: usize = 4096;
+
+/// `n` rows of `dims` values made `rows` at a time by `make(first row,
+/// rows, scratch)` into a vector of `T`, or a `MemoryError` when it
+/// cannot be allocated.
+fn by_chunks<T: From<f32>>(
+    n: usize,
+    dims: usize,
+    mut make: impl FnMut(usize, usize, &mut [f32]) -> Result<(), BatchError>,
+) -> PyResult<Vec<T>> {
+    let total = times(n, dims, "the samples")?;
+    let mut out = Vec::new();
+    out.try_reserve_exact(total).map_err(|_| {
+        PyMemoryError::new_err(format!("the samples: cannot allocate {total} values"))
+    })?;
+    if dims == 0 {
+        return Ok(out);
+    }
+    // Whole groups of 8 rows (Sobol' makes eight samples at once).
+    let per = (CHUNK_VALUES / dims).max(1).next_multiple_of(8);
+    let mut scratch = vec![0.0f32; per * dims];
+    let mut row = 0;
+    while row < n {
+        let rows = per.min(n - row);
+        let chunk = &mut scratch[..rows * dims];
+        make(row, rows, chunk).map_err(value_error)?;
+        out.extend(chunk.iter().map(|&v| T::from(v)));
+        row += rows;
+    }
+    Ok(out)
 }
 
 /// The same values as [`Sampler::run`] drawn through the core's public
@@ -196,11 +247,13 @@ fn per_sample_reference(
 ) -> PyResult<(f64, u64)> {
     let kind = sampler_kind(kind)?;
     let mut s = AnySampler::new(kind, spp, seed, UVec2::ONE).map_err(value_error)?;
-    let mut out: Vec<f64> = zeros(times(n as usize, dims, "the samples")?, "the samples")?;
+    let total = times(n as usize, dims, "the samples")?;
     Ok(py.detach(|| {
         let start = Instant::now();
+        // Into a new vector, as a caller's own loop would (the batch call
+        // also makes its output).
+        let mut out: Vec<f64> = Vec::with_capacity(total);
         strata_runner::with_any_sampler!(&mut s, s => {
-            out.clear();
             for i in 0..n {
                 s.start_pixel_sample(UVec2::ZERO, i);
                 let p = s.pixel_2d();

@@ -156,6 +156,75 @@ pub trait Sampler {
     fn skip_2d(&mut self) {
         self.next_2d();
     }
+
+    /// Fills `out` with rows of `dims` values for samples `first, first +
+    /// 1, …` of `pixel`, `out.len() / dims` rows ([`draw_row`]'s order:
+    /// the position, then `next_2d` pairs, then a `next_1d` for an odd
+    /// last): the same bits as those calls, made faster where a kind can
+    /// share work between consecutive samples (Sobol' does eight at
+    /// once). Indices wrap past `u32::MAX`; the sampler is left at the
+    /// last sample. Nothing is written for `dims = 0`.
+    ///
+    /// ```
+    /// use glam::UVec2;
+    /// use strata::sampler::{Sampler, Sobol, draw_row};
+    /// let mut s = Sobol::new(64, 7).unwrap();
+    /// let mut run = [0.0; 5 * 3];
+    /// s.fill_run(UVec2::new(4, 2), 10, 5, &mut run);
+    /// let mut row = [0.0; 5];
+    /// s.start_pixel_sample(UVec2::new(4, 2), 12);
+    /// draw_row(&mut s, &mut row);
+    /// assert_eq!(row, run[10..15]);
+    /// ```
+    fn fill_run(&mut self, pixel: UVec2, first: u32, dims: usize, out: &mut [f32]) {
+        if dims == 0 {
+            return;
+        }
+        for (k, row) in out.chunks_exact_mut(dims).enumerate() {
+            self.start_pixel_sample(pixel, first.wrapping_add(k as u32));
+            draw_row(self, row);
+        }
+    }
+}
+
+/// The first `out.len()` dimensions of the current pixel sample, in the
+/// renderer's order: values 0 and 1 are the position in the pixel
+/// ([`Sampler::pixel_2d`]), then pairs from [`Sampler::next_2d`], and the
+/// last from [`Sampler::next_1d`] when the length is odd (one value: the
+/// position's x). A camera ray takes the position, then each bounce its
+/// pairs; the language bindings' batch calls give these rows.
+///
+/// ```
+/// use glam::UVec2;
+/// use strata::sampler::{Halton, Sampler, draw_row};
+/// let mut s = Halton::new(16, 3).unwrap();
+/// s.start_pixel_sample(UVec2::new(1, 1), 2);
+/// let mut row = [0.0; 5];
+/// draw_row(&mut s, &mut row);
+/// s.start_pixel_sample(UVec2::new(1, 1), 2);
+/// let (p, a) = (s.pixel_2d(), s.next_2d());
+/// assert_eq!(row, [p.x, p.y, a.x, a.y, s.next_1d()]);
+/// ```
+#[inline(always)]
+pub fn draw_row<S: Sampler + ?Sized, T: From<f32>>(s: &mut S, out: &mut [T]) {
+    let Some((first, rest)) = out.split_first_mut() else {
+        return;
+    };
+    let p = s.pixel_2d();
+    *first = p.x.into();
+    let Some((second, rest)) = rest.split_first_mut() else {
+        return;
+    };
+    *second = p.y.into();
+    let mut pairs = rest.chunks_exact_mut(2);
+    for pair in &mut pairs {
+        let v = s.next_2d();
+        pair[0] = v.x.into();
+        pair[1] = v.y.into();
+    }
+    if let [last] = pairs.into_remainder() {
+        *last = s.next_1d().into();
+    }
 }
 /// The `(nx, ny)` grid of `spp` strata closest to square, `nx ≥ ny`,
 /// `nx · ny = spp`; `(0, 0)` for `spp = 0`.

@@ -196,6 +196,32 @@ fn padded_block_by_pair(
     out
 }
 
+/// One 2-D pair for eight samples (`irev`: their indices reversed): the
+/// pair's shuffled index and its two output scrambles, as the 24-bit
+/// integers of [`padded_block`] (the same operations per lane).
+#[inline(always)]
+fn run_pair(irev: &[u32; 8], pair_key: u32, key0: u32, key1: u32) -> ([u32; 8], [u32; 8]) {
+    let (mut v0, mut v1) = ([0u32; 8], [0u32; 8]);
+    for l in 0..8 {
+        let index = reverse(laine_karras(irev[l], pair_key));
+        v0[l] = reverse(laine_karras(index, key0)) >> 8;
+        v1[l] = reverse(laine_karras(pascal_rev(index), key1)) >> 8;
+    }
+    (v0, v1)
+}
+
+/// `x.reverse_bits()` by shifts and masks: what vectorises on every
+/// SIMD level (x86-64 has no bit-reverse instruction, and LLVM may take
+/// the vector form lane by lane).
+#[inline(always)]
+const fn reverse(x: u32) -> u32 {
+    let x = x.rotate_left(16);
+    let x = ((x >> 8) & 0x00ff_00ff) | ((x & 0x00ff_00ff) << 8);
+    let x = ((x >> 4) & 0x0f0f_0f0f) | ((x & 0x0f0f_0f0f) << 4);
+    let x = ((x >> 2) & 0x3333_3333) | ((x & 0x3333_3333) << 2);
+    ((x >> 1) & 0x5555_5555) | ((x & 0x5555_5555) << 1)
+}
+
 /// Keys of the Sobol' index shuffles and output scrambles, apart from
 /// each other and from stream states.
 pub(super) const SOBOL_GROUP_SALT: u64 = 0x1319_8a2e_0370_7344;
@@ -376,6 +402,53 @@ impl Sampler for Sobol {
         Vec2::new(self.values[k], self.values[k | 1])
     }
 
+    /// Eight consecutive samples at once: each 2-D pair's keys are made
+    /// once per block of dimensions, and the lanes of a pair are eight
+    /// sample indices (the integer maths of [`padded_block`], lane for
+    /// lane, so the bits are the per-sample draws').
+    fn fill_run(&mut self, pixel: UVec2, first: u32, dims: usize, out: &mut [f32]) {
+        if dims == 0 {
+            return;
+        }
+        let rows = out.len() / dims;
+        self.start_pixel_sample(pixel, first);
+        let key = self.pixel.key;
+        // Batches of 64 rows: each pair's keys are made once per batch, and
+        // the batch's rows stay in cache while every pair is written.
+        let mut keys = sobol_keys(key, 0);
+        let mut keyed_block = 0;
+        for (b64, batch) in out[..rows * dims].chunks_mut(64 * dims).enumerate() {
+            for d in (0..dims).step_by(2) {
+                let block = (d / BLOCK) as u32;
+                if block != keyed_block {
+                    keys = sobol_keys(key, block);
+                    keyed_block = block;
+                }
+                let lane = d % BLOCK;
+                let (pair_key, key0, key1) =
+                    (keys.pairs[lane / 2], keys.dims[lane], keys.dims[lane + 1]);
+                for (g8, group) in batch.chunks_mut(8 * dims).enumerate() {
+                    let base = first.wrapping_add((64 * b64 + 8 * g8) as u32);
+                    let irev: [u32; 8] =
+                        core::array::from_fn(|l| base.wrapping_add(l as u32).reverse_bits());
+                    let (v0, v1) = run_pair(&irev, pair_key, key0, key1);
+                    // Below 2^24: the signed conversion is exact (and one
+                    // instruction a vector, where the unsigned one is not).
+                    let f0 = v0.map(|v| v as i32 as f32 * (1.0 / 16_777_216.0));
+                    let f1 = v1.map(|v| v as i32 as f32 * (1.0 / 16_777_216.0));
+                    for (l, row) in group.chunks_exact_mut(dims).enumerate() {
+                        row[d] = f0[l];
+                        if d + 1 < dims {
+                            row[d + 1] = f1[l];
+                        }
+                    }
+                }
+            }
+        }
+        let last = first.wrapping_add(rows.saturating_sub(1) as u32);
+        self.start_pixel_sample(pixel, last);
+    }
+
     // Only the dimension moves: a block is filled when a value is read.
     #[inline]
     fn skip_1d(&mut self) {
@@ -392,6 +465,45 @@ impl Sampler for Sobol {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampler::draw_row;
+
+    #[test]
+    fn reverse_is_reverse_bits() {
+        for x in [0, 1, 0x8000_0000, 0xdead_beef, u32::MAX, 0x1234_5678] {
+            assert_eq!(reverse(x), x.reverse_bits());
+        }
+        let mut x = 0x9e37_79b9u32;
+        for _ in 0..10_000 {
+            x = x.wrapping_mul(0x2c1b_3c6d).wrapping_add(0x297a_2d39);
+            assert_eq!(reverse(x), x.reverse_bits());
+        }
+    }
+
+    #[test]
+    fn a_run_equals_the_per_sample_draws() {
+        // Row lengths across blocks (16, 32) and odd ones; runs shorter
+        // than, equal to and past the 8-sample groups and 64-row batches;
+        // indices that wrap past u32::MAX.
+        let mut s = Sobol::new(1 << 10, 99).unwrap();
+        let mut one = Sobol::new(1 << 10, 99).unwrap();
+        for dims in [1, 2, 3, 7, 16, 17, 31, 32, 33, 50] {
+            for (first, n) in [(0u32, 1usize), (5, 8), (3, 63), (64, 130), (u32::MAX - 4, 9)] {
+                let pixel = UVec2::new(dims as u32, n as u32);
+                let mut run = [0.0f32; 130 * 50];
+                let run = &mut run[..n * dims];
+                s.fill_run(pixel, first, dims, run);
+                for (k, row) in run.chunks_exact(dims).enumerate() {
+                    let mut want = [0.0f32; 50];
+                    one.start_pixel_sample(pixel, first.wrapping_add(k as u32));
+                    draw_row(&mut one, &mut want[..dims]);
+                    assert_eq!(row, &want[..dims], "{dims} dims, from {first}, row {k}");
+                }
+                // Left at the last sample.
+                one.start_pixel_sample(pixel, first.wrapping_add(n as u32 - 1));
+                assert_eq!(s.next_2d(), one.next_2d());
+            }
+        }
+    }
 
     /// `(s, a, m₁..m_s)` of Sobol' dimension 1 (Joe and Kuo, row 2).
     const JOE_KUO: (u32, u32, [u32; 1]) = (1, 0, [1]);
