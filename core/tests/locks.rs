@@ -197,7 +197,10 @@ fn sampler_rows_lock() {
         sample_rows(&mut strata::ZSobol::new(16, 2026, UVec2::new(320, 180)).unwrap()),
         sample_rows(&mut strata::ZSobol::new(256, 2026, UVec2::splat(1 << 20)).unwrap()),
     ];
-    assert_eq!(got, SAMPLER_ROWS_LOCK, "rows changed: {got:#018x?}\n{CHANGED}");
+    assert_eq!(
+        got, SAMPLER_ROWS_LOCK,
+        "rows changed: {got:#018x?}\n{CHANGED}"
+    );
 }
 
 /// FNV-1a over 32-bit words. Its own copy: this test belongs to the core

@@ -9,8 +9,8 @@ use std::fmt;
 use anyhow::Result;
 use strata::glam::{UVec2, Vec2, Vec3};
 use strata::mapping::{self, Cone};
-use strata::trace::Ray;
 use strata::sampler::draw_row;
+use strata::trace::Ray;
 use strata::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::job::SamplerKind;

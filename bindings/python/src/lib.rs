@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use numpy::{
     PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
-    PyUntypedArrayMethods,
+    PyReadwriteArray2, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -144,55 +144,67 @@ impl Sampler {
     }
 
     /// The first `dims` dimensions of pixel samples `(pixels[i], indices[i])`
-    /// as `(n, dims)` float32 rows.
-    fn fill<'py>(
+    /// into the rows of `out`, a C-contiguous `(n, dims)` float32 array.
+    fn fill_into(
         &mut self,
-        py: Python<'py>,
-        pixels: PyReadonlyArray2<'py, u32>,
-        indices: PyReadonlyArray1<'py, u32>,
-        dims: usize,
-    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        py: Python<'_>,
+        pixels: PyReadonlyArray2<'_, u32>,
+        indices: PyReadonlyArray1<'_, u32>,
+        mut out: PyReadwriteArray2<'_, f32>,
+    ) -> PyResult<()> {
         let (p, i) = (slice(&pixels, "pixels")?, slice(&indices, "indices")?);
-        let n = i.len();
-        if p.len() != times(n, 2, "pixels")? {
+        let [n, dims] = [out.shape()[0], out.shape()[1]];
+        if i.len() != n || p.len() != times(n, 2, "pixels")? {
             return Err(value_error(format!(
-                "pixels: {} values for {n} samples (x, y each)",
-                p.len()
+                "{} pixel values and {} indices for {n} rows (x, y and an index each)",
+                p.len(),
+                i.len()
             )));
         }
+        let out = out
+            .as_slice_mut()
+            .map_err(|_| value_error("out is not a C-contiguous array"))?;
         let inner = &mut self.inner;
-        let out = py.detach(|| {
-            by_chunks(n, dims, |row, rows, chunk| {
-                inner.fill(&p[2 * row..2 * (row + rows)], &i[row..row + rows], dims, chunk)
+        py.detach(|| {
+            by_chunks(out, dims, |row, rows, chunk| {
+                inner.fill(
+                    &p[2 * row..2 * (row + rows)],
+                    &i[row..row + rows],
+                    dims,
+                    chunk,
+                )
             })
-        })?;
-        matrix(py, out, n, dims)
+        })
     }
 
-    /// Samples `first .. first + n` of pixel `(x, y)`, `dims` dimensions
-    /// each, as `(n, dims)` float64 rows (the values are float32's, exactly).
-    fn run<'py>(
+    /// Samples `first, first + 1, …` of pixel `(x, y)` into the rows of
+    /// `out`, a C-contiguous `(n, dims)` float64 array the caller made
+    /// (numpy's own allocation: large arrays get huge pages, so the
+    /// first write costs less); the values are float32's, exactly.
+    fn run_into(
         &mut self,
-        py: Python<'py>,
+        py: Python<'_>,
         x: u32,
         y: u32,
         first: u32,
-        n: usize,
-        dims: usize,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        mut out: PyReadwriteArray2<'_, f64>,
+    ) -> PyResult<()> {
+        let [n, dims] = [out.shape()[0], out.shape()[1]];
         if u64::from(first) + n as u64 > 1 << 32 {
             return Err(value_error(format!(
                 "{n} samples from index {first} pass the last index, {}",
                 u32::MAX
             )));
         }
+        let out = out
+            .as_slice_mut()
+            .map_err(|_| value_error("out is not a C-contiguous array"))?;
         let inner = &mut self.inner;
-        let out: Vec<f64> = py.detach(|| {
-            by_chunks(n, dims, |row, _, chunk| {
+        py.detach(|| {
+            by_chunks(out, dims, |row, _, chunk| {
                 inner.fill_pixel(UVec2::new(x, y), first + row as u32, dims, chunk)
             })
-        })?;
-        matrix(py, out, n, dims)
+        })
     }
 }
 
@@ -201,34 +213,29 @@ impl Sampler {
 /// zeroed first) and every value arrives as `T`.
 const CHUNK_VALUES: usize = 4096;
 
-/// `n` rows of `dims` values made `rows` at a time by `make(first row,
-/// rows, scratch)` into a vector of `T`, or a `MemoryError` when it
-/// cannot be allocated.
+/// Fills `out` (whole rows of `dims` values) a chunk of rows at a time
+/// by `make(first row, rows, scratch)`, each chunk converted to `T` as it
+/// is copied in.
 fn by_chunks<T: From<f32>>(
-    n: usize,
+    out: &mut [T],
     dims: usize,
     mut make: impl FnMut(usize, usize, &mut [f32]) -> Result<(), BatchError>,
-) -> PyResult<Vec<T>> {
-    let total = times(n, dims, "the samples")?;
-    let mut out = Vec::new();
-    out.try_reserve_exact(total).map_err(|_| {
-        PyMemoryError::new_err(format!("the samples: cannot allocate {total} values"))
-    })?;
+) -> PyResult<()> {
     if dims == 0 {
-        return Ok(out);
+        return Ok(());
     }
     // Whole groups of 8 rows (Sobol' makes eight samples at once).
     let per = (CHUNK_VALUES / dims).max(1).next_multiple_of(8);
     let mut scratch = vec![0.0f32; per * dims];
-    let mut row = 0;
-    while row < n {
-        let rows = per.min(n - row);
+    for (k, rows_out) in out.chunks_mut(per * dims).enumerate() {
+        let rows = rows_out.len() / dims;
         let chunk = &mut scratch[..rows * dims];
-        make(row, rows, chunk).map_err(value_error)?;
-        out.extend(chunk.iter().map(|&v| T::from(v)));
-        row += rows;
+        make(k * per, rows, chunk).map_err(value_error)?;
+        for (o, &v) in rows_out.iter_mut().zip(chunk.iter()) {
+            *o = T::from(v);
+        }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The same values as [`Sampler::run`] drawn through the core's public
@@ -633,11 +640,38 @@ fn render(
     }
 }
 
-/// The module.
+/// Whether this CPU runs x86-64-v3 code (AVX, AVX2, BMI1, BMI2, F16C,
+/// FMA, LZCNT, MOVBE and the v2 set): the package then imports its v3
+/// module. Always false off x86-64.
+#[pyfunction]
+fn cpu_supports_v3() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        has!("avx")
+            && has!("avx2")
+            && has!("bmi1")
+            && has!("bmi2")
+            && has!("f16c")
+            && has!("fma")
+            && has!("lzcnt")
+            && has!("movbe")
+            && has!("sse4.2")
+            && has!("popcnt")
+            && has!("cmpxchg16b")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
+/// The module: `strata._strata` (portable), or `strata._strata_v3`
+/// built with the `v3` feature for x86-64-v3.
 #[pymodule]
+#[cfg_attr(feature = "v3", pyo3(name = "_strata_v3"))]
 fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(simd, m)?)?;
+    m.add_function(wrap_pyfunction!(cpu_supports_v3, m)?)?;
     m.add_function(wrap_pyfunction!(output_revision, m)?)?;
     m.add_function(wrap_pyfunction!(sampler_kinds, m)?)?;
     m.add_function(wrap_pyfunction!(mapping_names, m)?)?;

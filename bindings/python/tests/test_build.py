@@ -5,11 +5,44 @@ import platform
 import strata
 
 
-def test_the_module_is_the_portable_build():
-    # The repository builds its own binaries for the host CPU (AVX2 or
-    # AVX-512 here); the package must not: SSE2 on x86-64, NEON on aarch64.
-    want = {"x86_64": "sse2", "AMD64": "sse2", "aarch64": "neon", "arm64": "neon"}[platform.machine()]
-    assert strata.simd_level() == want
+import os
+import subprocess
+import sys
+
+import numpy as np
+from strata import _native
+
+X86 = platform.machine() in ("x86_64", "AMD64")
+
+
+def test_the_portable_module_is_portable_and_the_v3_one_is_chosen_where_it_runs():
+    # The repository builds its own binaries for the host CPU (AVX-512
+    # here); the package must not: its portable module is SSE2 on x86-64
+    # (NEON on aarch64), and on a CPU with x86-64-v3 the AVX2 module is
+    # imported instead, unless STRATA_SIMD=portable.
+    assert _native.portable.simd() == ("sse2" if X86 else "neon")
+    if X86 and _native.portable.cpu_supports_v3() and os.environ.get("STRATA_SIMD") != "portable":
+        assert strata.simd_level() == "avx2"
+        assert _native.native.__name__ == "strata._strata_v3"
+    else:
+        assert strata.simd_level() == _native.portable.simd()
+    code = "import strata; print(strata.simd_level())"
+    env = dict(os.environ, STRATA_SIMD="portable")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == _native.portable.simd()
+
+
+def test_both_modules_give_the_same_bits():
+    mods = {_native.portable, _native.native}
+    values = set()
+    for m in mods:
+        s = m.Sampler("sobol", 1 << 10, 5, 1, 1)
+        out = np.empty((1000, 37))
+        s.run_into(0, 0, 3, out)
+        pts = m.map("sample", "cosine_hemisphere", 0.0, out[:, :2].astype(np.float32))
+        film = m.render(["--scene", "cover", "--width", "24", "--height", "14", "--spp", "2"], 2)
+        values.add((out.tobytes(), pts.tobytes(), film.hash()))
+    assert len(values) == 1
 
 
 def test_versions_are_the_crates():

@@ -126,8 +126,10 @@ def test_native_work_releases_the_gil():
         lambda: strata.Sobol(16, seed=1).random(1 << 20),
         lambda: strata.sample("uniform_sphere", np.full((1 << 22, 2), 0.5, np.float32)),
     ):
-        assert _other_thread_runs_during(call) > 0
+        # Hundreds of steps where the GIL is free (each step waits for it).
+        assert _other_thread_runs_during(call) > 50
     # Control: a call that holds the GIL (numpy's sort of a large array
-    # of Python objects) lets no step through.
+    # of Python objects) lets through at most the one forced switch a
+    # wait begun under the old interval may still make.
     objs = np.array([str(i) for i in range(200_000)], dtype=object)
-    assert _other_thread_runs_during(lambda: np.sort(objs)) == 0
+    assert _other_thread_runs_during(lambda: np.sort(objs)) <= 1

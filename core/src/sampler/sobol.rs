@@ -210,11 +210,14 @@ fn run_pair(irev: &[u32; 8], pair_key: u32, key0: u32, key1: u32) -> ([u32; 8], 
     (v0, v1)
 }
 
-/// `x.reverse_bits()` by shifts and masks: what vectorises on every
-/// SIMD level (x86-64 has no bit-reverse instruction, and LLVM may take
-/// the vector form lane by lane).
+/// `x.reverse_bits()`, by shifts and masks below SSSE3: x86-64 has no
+/// bit-reverse instruction, and without SSSE3's byte shuffle LLVM takes
+/// the vector form lane by lane; the shifts vectorise on every level.
 #[inline(always)]
 const fn reverse(x: u32) -> u32 {
+    if cfg!(target_feature = "ssse3") {
+        return x.reverse_bits();
+    }
     let x = x.rotate_left(16);
     let x = ((x >> 8) & 0x00ff_00ff) | ((x & 0x00ff_00ff) << 8);
     let x = ((x >> 4) & 0x0f0f_0f0f) | ((x & 0x0f0f_0f0f) << 4);
@@ -436,6 +439,17 @@ impl Sampler for Sobol {
                     // instruction a vector, where the unsigned one is not).
                     let f0 = v0.map(|v| v as i32 as f32 * (1.0 / 16_777_216.0));
                     let f1 = v1.map(|v| v as i32 as f32 * (1.0 / 16_777_216.0));
+                    if dims == 2
+                        && let Ok(pairs) = <&mut [f32; 16]>::try_from(&mut *group)
+                    {
+                        // Eight whole rows of one pair: interleaved in
+                        // registers, stored as one block.
+                        for l in 0..8 {
+                            pairs[2 * l] = f0[l];
+                            pairs[2 * l + 1] = f1[l];
+                        }
+                        continue;
+                    }
                     for (l, row) in group.chunks_exact_mut(dims).enumerate() {
                         row[d] = f0[l];
                         if d + 1 < dims {
@@ -487,7 +501,13 @@ mod tests {
         let mut s = Sobol::new(1 << 10, 99).unwrap();
         let mut one = Sobol::new(1 << 10, 99).unwrap();
         for dims in [1, 2, 3, 7, 16, 17, 31, 32, 33, 50] {
-            for (first, n) in [(0u32, 1usize), (5, 8), (3, 63), (64, 130), (u32::MAX - 4, 9)] {
+            for (first, n) in [
+                (0u32, 1usize),
+                (5, 8),
+                (3, 63),
+                (64, 130),
+                (u32::MAX - 4, 9),
+            ] {
                 let pixel = UVec2::new(dims as u32, n as u32);
                 let mut run = [0.0f32; 130 * 50];
                 let run = &mut run[..n * dims];

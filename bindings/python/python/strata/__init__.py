@@ -23,7 +23,7 @@ import os
 
 import numpy as np
 
-from . import _strata
+from ._native import native as _strata
 from ._arrays import U32_MAX, count, floats, seed_of, uints
 from ._engines import (
     ENGINES,
@@ -77,8 +77,10 @@ Film = _strata.Film
 
 
 def simd_level() -> str:
-    """The SIMD level the native module was built for: ``"sse2"`` for the
-    portable x86-64 build this package makes. Values never depend on it."""
+    """The SIMD level of the native module in use: ``"avx2"`` where the
+    CPU runs x86-64-v3 code, else ``"sse2"`` (the portable build; set
+    ``STRATA_SIMD=portable`` to choose it); ``"neon"`` on aarch64. Values
+    never depend on it."""
     return _strata.simd()
 
 
@@ -126,7 +128,9 @@ def pixel_samples(pixels, indices, dims, *, sampler, spp, seed=0, resolution=Non
     else:
         width, height = (count(v, "resolution", low=1, high=U32_MAX) for v in resolution)
     s = _strata.Sampler(sampler, spp, seed, width, height)
-    return s.fill(p, i, dims).reshape(lead + (dims,))
+    out = np.empty((len(i), dims), np.float32)
+    s.fill_into(p, i, out)
+    return out.reshape(lead + (dims,))
 
 
 # ------------------------------------------------------------ mappings

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _strata
+from ._native import native as _strata
 from ._arrays import U32_MAX, count, seed_of
 
 try:  # SciPy is optional: without it the engines stand alone.
@@ -115,7 +115,9 @@ class _Engine(_Base):
             raise ValueError(
                 f"{first} points drawn and {n} more pass the last sample index, {U32_MAX}"
             )
-        return self._sampler.run(self._pixel[0], self._pixel[1], first, n, self.d)
+        out = np.empty((n, self.d))
+        self._sampler.run_into(self._pixel[0], self._pixel[1], first, out)
+        return out
 
     def random_base2(self, m):
         """``2**m`` points, keeping the balance of a base-2 net: the total
