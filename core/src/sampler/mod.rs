@@ -176,6 +176,7 @@ pub trait Sampler {
     /// draw_row(&mut s, &mut row);
     /// assert_eq!(row, run[10..15]);
     /// ```
+    #[inline]
     fn fill_run(&mut self, pixel: UVec2, first: u32, dims: usize, out: &mut [f32]) {
         if dims == 0 {
             return;

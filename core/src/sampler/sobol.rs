@@ -409,6 +409,7 @@ impl Sampler for Sobol {
     /// once per block of dimensions, and the lanes of a pair are eight
     /// sample indices (the integer maths of [`padded_block`], lane for
     /// lane, so the bits are the per-sample draws').
+    #[inline]
     fn fill_run(&mut self, pixel: UVec2, first: u32, dims: usize, out: &mut [f32]) {
         if dims == 0 {
             return;
