@@ -10,7 +10,7 @@ use anyhow::Result;
 use strata::glam::{UVec2, Vec2, Vec3};
 use strata::mapping::{self, Cone};
 use strata::sampler::draw_row;
-use strata::trace::Ray;
+use strata::trace::{BVH_MAX_SPHERES, Ray, Sphere};
 use strata::{Halton, Independent, Onb, Sampler, Sobol, Stratified, UniformGrid, ZSobol};
 
 use crate::job::SamplerKind;
@@ -347,6 +347,21 @@ pub enum MapOp {
 }
 
 impl MapOp {
+    /// The operation named `"sample"`, `"pdf"` or `"invert"`.
+    ///
+    /// # Errors
+    /// [`BatchError::Value`] for any other name.
+    pub fn from_name(name: &str) -> Result<MapOp, BatchError> {
+        match name {
+            "sample" => Ok(MapOp::Sample),
+            "pdf" => Ok(MapOp::Pdf),
+            "invert" => Ok(MapOp::Invert),
+            _ => Err(BatchError::Value(format!(
+                "unknown operation {name:?}: sample, pdf or invert"
+            ))),
+        }
+    }
+
     /// Values per input row and per output row of `op` on `m`.
     #[must_use]
     pub fn arity(self, m: Mapping) -> (usize, usize) {
@@ -361,10 +376,13 @@ impl MapOp {
 
 /// One operation of mapping `m` over rows: `input` rows in, `out` rows
 /// out ([`MapOp::arity`]). `cone` is the cone's parameter (other mappings
-/// ignore it). Returns the number of rows.
+/// ignore it; the cone clamps it to its range). Returns the number of
+/// rows.
 ///
 /// # Errors
-/// [`BatchError::Size`] if `input` is not whole rows or `out` is short.
+/// [`BatchError::Size`] if `input` is not whole rows or `out` is short;
+/// [`BatchError::Value`] for a sample value outside `[0, 1]`, a point
+/// value that is not finite, or a NaN cone.
 pub fn map_rows(
     op: MapOp,
     m: Mapping,
@@ -375,6 +393,20 @@ pub fn map_rows(
     let (in_dims, out_dims) = op.arity(m);
     let n = rows(input, in_dims, "the input")?;
     let out = room(out, times(n, out_dims, "out")?, "out")?;
+    if cone.is_nan() {
+        return Err(BatchError::Value("the cone parameter is NaN".into()));
+    }
+    if op == MapOp::Sample {
+        // Samples lie in the unit square (cube); NaN fails the test too.
+        if let Some(i) = input.iter().position(|u| !(0.0..=1.0).contains(u)) {
+            return Err(BatchError::Value(format!(
+                "sample value {i} is {}: samples lie in [0, 1]",
+                input[i]
+            )));
+        }
+    } else {
+        finite(input, "point value")?;
+    }
     let cone = m.cone(cone);
     let v2 = |r: &[f32]| Vec2::new(r[0], r[1]);
     let v3 = |r: &[f32]| Vec3::new(r[0], r[1], r[2]);
@@ -453,6 +485,33 @@ pub enum Basis {
     AxisSwitch,
 }
 
+impl Basis {
+    /// The basis named `"duff"` or `"axis_switch"`.
+    ///
+    /// # Errors
+    /// [`BatchError::Value`] for any other name.
+    pub fn from_name(name: &str) -> Result<Basis, BatchError> {
+        match name {
+            "duff" => Ok(Basis::Duff),
+            "axis_switch" => Ok(Basis::AxisSwitch),
+            _ => Err(BatchError::Value(format!(
+                "unknown basis {name:?}: duff or axis_switch"
+            ))),
+        }
+    }
+}
+
+/// Refuses a value that is not finite (`what` names one).
+fn finite(values: &[f32], what: &str) -> Result<(), BatchError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(BatchError::Value(format!(
+            "{what} {i} is {}: values must be finite",
+            values[i]
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Each direction of `dirs` (3 values a row) from the basis about the
 /// matching unit normal of `normals` to world space (`to_world`), or
 /// back, into `out`.
@@ -460,7 +519,8 @@ pub enum Basis {
 /// # Errors
 /// [`BatchError::Size`] for arrays that do not match;
 /// [`BatchError::Value`] for a normal that is not unit length (the rule
-/// of the core's unit directions, `Ray::try_new`).
+/// of the core's unit directions, `Ray::try_new`) or a direction value
+/// that is not finite.
 pub fn onb_rows(
     to_world: bool,
     basis: Basis,
@@ -477,6 +537,7 @@ pub fn onb_rows(
         )));
     }
     let out = room(out, normals.len(), "out")?;
+    finite(dirs, "direction value")?;
     for (i, ((nr, d), o)) in normals
         .chunks_exact(3)
         .zip(dirs.chunks_exact(3))
@@ -504,7 +565,59 @@ pub fn onb_rows(
     Ok(())
 }
 
-// ------------------------------------------------------------ rays
+// ------------------------------------------------------------ spheres and rays
+
+/// Spheres from rows of `x, y, z, radius`: a finite centre (the tree
+/// checks its range) and a finite radius of at least 0.
+///
+/// # Errors
+/// [`BatchError::Size`] for a ragged array or more spheres than a tree
+/// holds; [`BatchError::Value`] naming the first bad sphere.
+pub fn spheres_from_rows(rows_in: &[f32]) -> Result<Vec<Sphere>, BatchError> {
+    let n = rows(rows_in, 4, "spheres")?;
+    if n > BVH_MAX_SPHERES {
+        return Err(BatchError::Size(format!(
+            "{n} spheres: a tree holds at most {BVH_MAX_SPHERES}"
+        )));
+    }
+    rows_in
+        .chunks_exact(4)
+        .enumerate()
+        .map(|(i, r)| {
+            if !r.iter().all(|v| v.is_finite()) || r[3] < 0.0 {
+                return Err(BatchError::Value(format!(
+                    "spheres[{i}]: ({}, {}, {}) radius {}: a finite centre and a radius of at least 0",
+                    r[0], r[1], r[2], r[3]
+                )));
+            }
+            Ok(Sphere::new(Vec3::new(r[0], r[1], r[2]), r[3]))
+        })
+        .collect()
+}
+
+/// A ray's parts: origin, direction, `t_min`, `t_max`.
+pub type RayParts = ([f32; 3], [f32; 3], f32, f32);
+
+/// `query` of each ray of `rays` into `out` (one result a ray), each ray
+/// checked by [`checked_ray`].
+///
+/// # Errors
+/// [`BatchError::Size`] if `out` is short; [`BatchError::Value`] for the
+/// first ray the check refuses (the results are then unspecified).
+pub fn query_rays<T>(
+    rays: impl ExactSizeIterator<Item = RayParts>,
+    out: &mut [T],
+    mut query: impl FnMut(&Ray) -> T,
+) -> Result<(), BatchError> {
+    let out = room(out, rays.len(), "out")?;
+    for (i, ((o, d, t0, t1), slot)) in rays.zip(out).enumerate() {
+        let Some(ray) = checked_ray(o, d, t0, t1) else {
+            return Err(ray_error(i, t0, t1));
+        };
+        *slot = query(&ray);
+    }
+    Ok(())
+}
 
 /// The core's ray `origin + t · dir`, `t ∈ (t_min, t_max)`, if the values
 /// make one: `Ray::try_new`'s rule (a unit direction, which rules out
@@ -643,6 +756,67 @@ mod tests {
         ));
         assert!(matches!(
             onb_rows(false, Basis::Duff, &[0.0, 0.0, 1.0], &d[..2], &mut out),
+            Err(BatchError::Size(_))
+        ));
+    }
+
+    #[test]
+    fn bad_values_are_refused_by_every_binding_alike() {
+        let mut out = [0.0; 8];
+        let m = Mapping::UniformSphere;
+        for bad in [f32::NAN, -0.5, 1.5, f32::INFINITY] {
+            assert!(matches!(
+                map_rows(MapOp::Sample, m, 0.0, &[0.5, bad], &mut out),
+                Err(BatchError::Value(_))
+            ));
+        }
+        assert!(map_rows(MapOp::Sample, m, 0.0, &[0.0, 1.0], &mut out).is_ok());
+        assert!(matches!(
+            map_rows(MapOp::Pdf, m, 0.0, &[0.0, f32::NAN, 1.0], &mut out),
+            Err(BatchError::Value(_))
+        ));
+        assert!(matches!(
+            map_rows(
+                MapOp::Sample,
+                Mapping::UniformCone,
+                f32::NAN,
+                &[0.5, 0.5],
+                &mut out
+            ),
+            Err(BatchError::Value(_))
+        ));
+        assert!(matches!(
+            onb_rows(
+                true,
+                Basis::Duff,
+                &[0.0, 0.0, 1.0],
+                &[f32::NAN, 0.0, 0.0],
+                &mut out
+            ),
+            Err(BatchError::Value(_))
+        ));
+        assert_eq!(MapOp::from_name("pdf"), Ok(MapOp::Pdf));
+        assert_eq!(Basis::from_name("axis_switch"), Ok(Basis::AxisSwitch));
+        assert!(MapOp::from_name("sampel").is_err() && Basis::from_name("frisvad").is_err());
+        assert_eq!(
+            spheres_from_rows(&[0.0, 0.0, -3.0, 1.0]).map(|v| v.len()),
+            Ok(1)
+        );
+        for bad in [
+            [0.0, 0.0, 0.0, -1.0],
+            [0.0, f32::NAN, 0.0, 1.0],
+            [0.0, 0.0, 0.0, f32::INFINITY],
+        ] {
+            assert!(
+                matches!(spheres_from_rows(&bad), Err(BatchError::Value(m)) if m.contains("spheres[0]"))
+            );
+        }
+        let rays = [([0.0, 0.0, 0.0], [0.0, 0.0, -1.0], 0.0, f32::INFINITY); 2];
+        let mut hits = [0.0f32; 2];
+        assert!(query_rays(rays.into_iter(), &mut hits, |r| r.dir.z).is_ok());
+        assert_eq!(hits, [-1.0, -1.0]);
+        assert!(matches!(
+            query_rays(rays.into_iter(), &mut hits[..1], |_| 0.0),
             Err(BatchError::Size(_))
         ));
     }

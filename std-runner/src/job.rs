@@ -53,6 +53,20 @@ impl SamplerKind {
         SamplerKind::ZSobol,
     ];
 
+    /// The kind named `name` (its [`SamplerKind::name`]).
+    ///
+    /// # Errors
+    /// The names of every kind, for any other.
+    pub fn from_name(name: &str) -> Result<SamplerKind> {
+        SamplerKind::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
+                anyhow!("unknown sampler {name:?}: one of {}", names.join(", "))
+            })
+    }
+
     /// The name used on the command line and in metadata.
     pub fn name(self) -> &'static str {
         match self {

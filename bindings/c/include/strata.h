@@ -439,7 +439,10 @@ enum StrataStatus strata_sampler_spp(const struct StrataSampler *sampler, uint32
  * (3 floats, 2 for the disks) in `out`. `cone` is the cone's
  * `cos θmax`, or `sin² θmax` for `STRATA_MAPPING_UNIFORM_CONE_SIN2`
  * (other kinds ignore it). `u_len` must be a whole number of
- * rows; `out_len` at least the points' floats.
+ * rows; `out_len` at least the points' floats. A sample value outside
+ * `[0, 1]` (or NaN) and a NaN `cone` are refused
+ * (`STRATA_STATUS_INVALID_ARGUMENT`); the pdf and the inverse refuse
+ * points that are not finite.
  *
  * # Safety
  * Each array null (refused unless its length is 0) or valid for its
@@ -483,7 +486,8 @@ enum StrataStatus strata_mapping_invert(uint32_t kind,
 /**
  * Takes each direction of `dirs` (3 floats a row) from the basis about
  * the matching unit normal of `normals` (`z` along the normal) to world
- * space, into `out`. A normal that is not unit length is refused.
+ * space, into `out`. A normal that is not unit length, or a direction
+ * value that is not finite, is refused.
  *
  * # Safety
  * Each array null (refused unless its length is 0) or valid for its
@@ -529,7 +533,8 @@ enum StrataStatus strata_bvh_storage_size(size_t n, size_t *bytes);
  * in `*out`. The spheres are copied into the storage: the array may go
  * once this returns; the storage may not until [`strata_bvh_free`].
  * Closest hits are the brute-force loop's over the spheres, bit for bit,
- * ties to the lowest index.
+ * ties to the lowest index. A sphere with a value that is not finite or
+ * a negative radius is refused.
  *
  * # Safety
  * `spheres` null (refused unless its length is 0) or valid for

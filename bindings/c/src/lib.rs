@@ -28,15 +28,16 @@ use std::ffi::{CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use strata_core::Sampler;
-use strata_core::glam::{UVec2, Vec2, Vec3};
+use strata_core::glam::{UVec2, Vec2};
 use strata_core::mapping::PiecewiseConstant2D;
 use strata_core::render::PixelSum;
 use strata_core::trace::{
     Aabb, BVH_MAX_SPHERES, Bvh, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, Primitives, Ray,
-    SimdLevel, Sphere, bvh_storage_for, primitive_bvh_storage_for, simd_level,
+    SimdLevel, bvh_storage_for, primitive_bvh_storage_for, simd_level,
 };
 use strata_runner::batch::{
-    self, AnySampler, Basis, BatchError, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
+    self, AnySampler, Basis, BatchError, MapOp, Mapping, map_rows, onb_rows, query_rays,
+    spheres_from_rows,
 };
 use strata_runner::cli::{RenderArgs, library_render};
 use strata_runner::golden;
@@ -527,7 +528,10 @@ unsafe fn map_arrays(
 /// (3 floats, 2 for the disks) in `out`. `cone` is the cone's
 /// `cos θmax`, or `sin² θmax` for `STRATA_MAPPING_UNIFORM_CONE_SIN2`
 /// (other kinds ignore it). `u_len` must be a whole number of
-/// rows; `out_len` at least the points' floats.
+/// rows; `out_len` at least the points' floats. A sample value outside
+/// `[0, 1]` (or NaN) and a NaN `cone` are refused
+/// (`STRATA_STATUS_INVALID_ARGUMENT`); the pdf and the inverse refuse
+/// points that are not finite.
 ///
 /// # Safety
 /// Each array null (refused unless its length is 0) or valid for its
@@ -632,7 +636,8 @@ unsafe fn onb_arrays(
 
 /// Takes each direction of `dirs` (3 floats a row) from the basis about
 /// the matching unit normal of `normals` (`z` along the normal) to world
-/// space, into `out`. A normal that is not unit length is refused.
+/// space, into `out`. A normal that is not unit length, or a direction
+/// value that is not finite, is refused.
 ///
 /// # Safety
 /// Each array null (refused unless its length is 0) or valid for its
@@ -848,7 +853,8 @@ pub struct StrataBvh {
 /// in `*out`. The spheres are copied into the storage: the array may go
 /// once this returns; the storage may not until [`strata_bvh_free`].
 /// Closest hits are the brute-force loop's over the spheres, bit for bit,
-/// ties to the lowest index.
+/// ties to the lowest index. A sphere with a value that is not finite or
+/// a negative radius is refused.
 ///
 /// # Safety
 /// `spheres` null (refused unless its length is 0) or valid for
@@ -869,13 +875,8 @@ pub unsafe extern "C" fn strata_bvh_build(
         out[0] = std::ptr::null_mut(); // what a failure leaves
         // SAFETY: per this function's contract.
         let spheres = unsafe { input(spheres, spheres_len, "spheres") }?;
-        let n = rows(spheres, 4, "spheres")?;
-        too_many(n)?;
-        let list: Vec<Sphere> = spheres
-            .chunks_exact(4)
-            .map(|s| Sphere::new(Vec3::new(s[0], s[1], s[2]), s[3]))
-            .collect();
-        let at = layout(bvh_storage_for(n))?;
+        let list = spheres_from_rows(spheres).map_err(batch_failure)?;
+        let at = layout(bvh_storage_for(list.len()))?;
         // SAFETY: the caller keeps the storage alive and untouched until
         // `strata_bvh_free`, which drops the view first: `'static` stands
         // for that span.
@@ -921,14 +922,8 @@ unsafe fn over_rays<T>(
 ) -> Result<(), Failure> {
     // SAFETY: per the calling function's contract.
     let (rays, out) = unsafe { (input(rays, n, "rays")?, output(out, out_len, "out")?) };
-    let out = room(out, n, "out")?;
-    for (i, (r, o)) in rays.iter().zip(out).enumerate() {
-        let Some(ray) = checked_ray(r.origin, r.dir, r.t_min, r.t_max) else {
-            return Err(batch_failure(ray_error(i, r.t_min, r.t_max)));
-        };
-        *o = query(&ray);
-    }
-    Ok(())
+    let parts = rays.iter().map(|r| (r.origin, r.dir, r.t_min, r.t_max));
+    query_rays(parts, out, &mut query).map_err(batch_failure)
 }
 
 /// One query per ray of a tree behind `tree`, its results into `out`.

@@ -8,6 +8,7 @@
 //! ([`strata_runner::batch`]), whose messages become `ValueError`s.
 //! Values are the Rust core's, bit for bit.
 
+use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -18,15 +19,16 @@ use numpy::{
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use strata::Sampler as _;
-use strata::glam::{UVec2, Vec3};
+use strata::glam::UVec2;
 use strata::render::PixelSum;
-use strata::trace::{BvhStack, OwnedBvh, Sphere, simd_level};
+use strata::trace::{BvhStack, OwnedBvh, simd_level};
 use strata_runner::batch::{
-    AnySampler, Basis, BatchError, MapOp, Mapping, checked_ray, map_rows, onb_rows, ray_error,
+    AnySampler, Basis, BatchError, MapOp, Mapping, RayParts, map_rows, onb_rows, query_rays,
+    spheres_from_rows,
 };
 use strata_runner::cli::library_render;
 use strata_runner::golden;
-use strata_runner::job::{Outcome, Resume, SamplerKind, run_resumable};
+use strata_runner::job::{Job, Outcome, Rendered, Resume, SamplerKind, run_resumable, tile_side};
 
 /// A refusal of the shared checks as a `ValueError`.
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -55,17 +57,6 @@ fn slice<'a, T: numpy::Element, D: numpy::ndarray::Dimension>(
 ) -> PyResult<&'a [T]> {
     a.as_slice()
         .map_err(|_| value_error(format!("{what} is not a contiguous array")))
-}
-
-/// Refuses NaN and infinite values (`what` names the array).
-fn check_finite(values: &[f32], what: &str) -> PyResult<()> {
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(value_error(format!(
-            "{what}: value {i} is {}; values must be finite",
-            values[i]
-        ))),
-        None => Ok(()),
-    }
 }
 
 /// A `(rows, cols)` array from a vector of `rows · cols` values.
@@ -107,15 +98,13 @@ fn mapping_names() -> Vec<&'static str> {
 
 /// The sampler kind named `name`.
 fn sampler_kind(name: &str) -> PyResult<SamplerKind> {
-    SamplerKind::ALL
-        .into_iter()
-        .find(|k| k.name() == name)
-        .ok_or_else(|| {
-            value_error(format!(
-                "unknown sampler {name:?}: one of {}",
-                sampler_kinds().join(", ")
-            ))
-        })
+    SamplerKind::from_name(name).map_err(value_error)
+}
+
+/// `(values per sample, values per point)` of the mapping `name`.
+#[pyfunction]
+fn mapping_arity(name: &str) -> PyResult<(usize, usize)> {
+    Ok(Mapping::from_name(name).map_err(value_error)?.arity())
 }
 
 // ------------------------------------------------------------ samplers
@@ -189,20 +178,16 @@ impl Sampler {
         first: u32,
         mut out: PyReadwriteArray2<'_, f64>,
     ) -> PyResult<()> {
-        let [n, dims] = [out.shape()[0], out.shape()[1]];
-        if u64::from(first) + n as u64 > 1 << 32 {
-            return Err(value_error(format!(
-                "{n} samples from index {first} pass the last index, {}",
-                u32::MAX
-            )));
-        }
+        let dims = out.shape()[1];
         let out = out
             .as_slice_mut()
             .map_err(|_| value_error("out is not a C-contiguous array"))?;
         let inner = &mut self.inner;
         py.detach(|| {
             by_chunks(out, dims, |row, _, chunk| {
-                inner.fill_pixel(UVec2::new(x, y), first + row as u32, dims, chunk)
+                // The first chunk checks the run's end against u32::MAX.
+                let start = u32::try_from(u64::from(first) + row as u64).unwrap_or(u32::MAX);
+                inner.fill_pixel(UVec2::new(x, y), start, dims, chunk)
             })
         })
     }
@@ -255,11 +240,16 @@ fn per_sample_reference(
     let kind = sampler_kind(kind)?;
     let mut s = AnySampler::new(kind, spp, seed, UVec2::ONE).map_err(value_error)?;
     let total = times(n as usize, dims, "the samples")?;
-    Ok(py.detach(|| {
+    py.detach(|| {
         let start = Instant::now();
         // Into a new vector, as a caller's own loop would (the batch call
         // also makes its output).
-        let mut out: Vec<f64> = Vec::with_capacity(total);
+        let mut out: Vec<f64> = Vec::new();
+        if out.try_reserve_exact(total).is_err() {
+            return Err(PyMemoryError::new_err(format!(
+                "cannot allocate {total} values"
+            )));
+        }
         strata_runner::with_any_sampler!(&mut s, s => {
             for i in 0..n {
                 s.start_pixel_sample(UVec2::ZERO, i);
@@ -278,8 +268,8 @@ fn per_sample_reference(
         });
         let seconds = start.elapsed().as_secs_f64();
         let sum = out.iter().fold(0u64, |a, v| a.wrapping_add(v.to_bits()));
-        (seconds, sum)
-    }))
+        Ok((seconds, sum))
+    })
 }
 
 // ------------------------------------------------------------ mappings and bases
@@ -294,43 +284,20 @@ fn map<'py>(
     cone: f32,
     values: PyReadonlyArray2<'py, f32>,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let op = match op {
-        "sample" => MapOp::Sample,
-        "pdf" => MapOp::Pdf,
-        "invert" => MapOp::Invert,
-        _ => return Err(value_error(format!("unknown operation {op:?}"))),
-    };
+    let op = MapOp::from_name(op).map_err(value_error)?;
     let m = Mapping::from_name(name).map_err(value_error)?;
     let v = slice(&values, "the input")?;
     let (in_dims, out_dims) = op.arity(m);
     if values.shape()[1] != in_dims {
         return Err(value_error(format!(
-            "{name} {}: rows of {in_dims} values, not {}",
-            match op {
-                MapOp::Sample => "samples",
-                _ => "points",
-            },
+            "{name} {op:?}: rows of {in_dims} values, not {}",
             values.shape()[1]
         )));
     }
-    if !cone.is_finite() {
-        return Err(value_error(format!("cone {cone} is not finite")));
-    }
     let n = values.shape()[0];
     let mut out = zeros::<f32>(times(n, out_dims, "the output")?, "the output")?;
-    py.detach(|| -> Result<(), PyErr> {
-        check_finite(v, "the input")?;
-        if op == MapOp::Sample
-            && let Some(i) = v.iter().position(|u| !(0.0..=1.0).contains(u))
-        {
-            return Err(value_error(format!(
-                "sample value {i} is {}: samples lie in [0, 1]",
-                v[i]
-            )));
-        }
-        map_rows(op, m, cone, v, &mut out).map_err(value_error)?;
-        Ok(())
-    })?;
+    py.detach(|| map_rows(op, m, cone, v, &mut out))
+        .map_err(value_error)?;
     matrix(py, out, n, out_dims)
 }
 
@@ -343,15 +310,7 @@ fn onb<'py>(
     normals: PyReadonlyArray2<'py, f32>,
     dirs: PyReadonlyArray2<'py, f32>,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let basis = match basis {
-        "duff" => Basis::Duff,
-        "axis_switch" => Basis::AxisSwitch,
-        _ => {
-            return Err(value_error(format!(
-                "unknown basis {basis:?}: \"duff\" or \"axis_switch\""
-            )));
-        }
-    };
+    let basis = Basis::from_name(basis).map_err(value_error)?;
     let (nv, dv) = (slice(&normals, "normals")?, slice(&dirs, "dirs")?);
     if normals.shape()[1] != 3 || dirs.shape() != normals.shape() {
         return Err(value_error(format!(
@@ -362,10 +321,8 @@ fn onb<'py>(
     }
     let n = normals.shape()[0];
     let mut out = zeros::<f32>(nv.len(), "the output")?;
-    py.detach(|| -> PyResult<()> {
-        check_finite(dv, "dirs")?;
-        onb_rows(to_world, basis, nv, dv, &mut out).map_err(value_error)
-    })?;
+    py.detach(|| onb_rows(to_world, basis, nv, dv, &mut out))
+        .map_err(value_error)?;
     matrix(py, out, n, 3)
 }
 
@@ -388,11 +345,7 @@ impl Spheres {
                 spheres.shape()[1]
             )));
         }
-        let s = slice(&spheres, "spheres")?;
-        let list: Vec<Sphere> = s
-            .chunks_exact(4)
-            .map(|r| Sphere::new(Vec3::new(r[0], r[1], r[2]), r[3]))
-            .collect();
+        let list = spheres_from_rows(slice(&spheres, "spheres")?).map_err(value_error)?;
         let bvh = py
             .detach(|| OwnedBvh::build(&list))
             .map_err(|e| value_error(format!("spheres: {e}")))?;
@@ -414,21 +367,17 @@ impl Spheres {
         rays: PyReadonlyArray2<'py, f32>,
     ) -> PyResult<Hits<'py>> {
         let r = ray_rows(&rays)?;
-        let n = r.len() / 8;
-        let mut t = zeros::<f32>(n, "t")?;
-        let mut id = zeros::<i64>(n, "ids")?;
+        let mut hits = zeros::<(f32, i64)>(r.len() / 8, "hits")?;
         let view = self.bvh.view();
-        py.detach(|| -> PyResult<()> {
+        py.detach(|| {
             let mut stack = BvhStack::new();
-            for (i, row) in r.chunks_exact(8).enumerate() {
-                let ray = ray_of(i, row)?;
-                match view.closest_hit_with(&ray, &mut stack) {
-                    Some(h) => (t[i], id[i]) = (h.t, i64::from(h.sphere)),
-                    None => (t[i], id[i]) = (f32::INFINITY, -1),
-                }
-            }
-            Ok(())
-        })?;
+            query_rays(ray_parts(r), &mut hits, |ray| {
+                view.closest_hit_with(ray, &mut stack)
+                    .map_or((f32::INFINITY, -1), |h| (h.t, i64::from(h.sphere)))
+            })
+        })
+        .map_err(value_error)?;
+        let (t, id): (Vec<f32>, Vec<i64>) = hits.into_iter().unzip();
         Ok((PyArray1::from_vec(py, t), PyArray1::from_vec(py, id)))
     }
 
@@ -441,13 +390,13 @@ impl Spheres {
         let r = ray_rows(&rays)?;
         let mut hit = zeros::<bool>(r.len() / 8, "hits")?;
         let view = self.bvh.view();
-        py.detach(|| -> PyResult<()> {
+        py.detach(|| {
             let mut stack = BvhStack::new();
-            for (i, row) in r.chunks_exact(8).enumerate() {
-                hit[i] = view.any_hit_with(&ray_of(i, row)?, &mut stack);
-            }
-            Ok(())
-        })?;
+            query_rays(ray_parts(r), &mut hit, |ray| {
+                view.any_hit_with(ray, &mut stack)
+            })
+        })
+        .map_err(value_error)?;
         Ok(PyArray1::from_vec(py, hit))
     }
 }
@@ -466,10 +415,10 @@ fn ray_rows<'a>(rays: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [f32]> {
     slice(rays, "rays")
 }
 
-/// The checked ray of row `i`.
-fn ray_of(i: usize, r: &[f32]) -> PyResult<strata::trace::Ray> {
-    checked_ray([r[0], r[1], r[2]], [r[3], r[4], r[5]], r[6], r[7])
-        .ok_or_else(|| value_error(ray_error(i, r[6], r[7])))
+/// Each row's ray parts, for the shared query loop.
+fn ray_parts(r: &[f32]) -> impl ExactSizeIterator<Item = RayParts> + '_ {
+    r.chunks_exact(8)
+        .map(|r| ([r[0], r[1], r[2]], [r[3], r[4], r[5]], r[6], r[7]))
 }
 
 // ------------------------------------------------------------ rendering
@@ -549,10 +498,45 @@ impl Film {
 /// How often a waiting render looks at Ctrl-C and calls `progress`.
 const POLL: Duration = Duration::from_millis(20);
 
+/// Paths a tile renders per pass at most: a render goes in passes of
+/// sample indices (their exact films add up to the one-shot film, bit
+/// for bit), so a stop waits for one pass of the tiles in flight, not
+/// for whole tiles of every sample.
+const PASS_PATHS: u64 = 1 << 18;
+
+/// The passes of `job`: ranges of its sample indices. An adaptive render
+/// decides per pixel from all its samples: one pass.
+fn passes(job: &Job<'_>) -> Vec<Range<u32>> {
+    let r = job.samples.clone();
+    if job.adaptive.is_some() || r.is_empty() {
+        return vec![r];
+    }
+    let side = u64::from(tile_side(job)).max(1);
+    let per = u32::try_from((PASS_PATHS / (side * side)).max(1)).unwrap_or(u32::MAX);
+    (r.start..r.end)
+        .step_by(per as usize)
+        .map(|a| a..a.saturating_add(per).min(r.end))
+        .collect()
+}
+
+/// Set when the render thread ends, however it ends (a panic too), and
+/// wakes the waiting caller.
+struct Ended<'a> {
+    flag: &'a AtomicBool,
+    caller: std::thread::Thread,
+}
+
+impl Drop for Ended<'_> {
+    fn drop(&mut self) {
+        self.flag.store(true, Ordering::Release);
+        self.caller.unpark();
+    }
+}
+
 /// Renders with the flags of `strata render` on `threads` threads,
-/// returning the film. Ctrl-C (any pending Python signal) stops it
-/// within about one tile's time; `progress(done, total)` is called with
-/// pixels finished.
+/// returning the film. Ctrl-C (any pending Python signal) or an exception
+/// from `progress(done, total)` (pixel samples rendered, of those
+/// planned) stops it within one pass of the tiles in flight.
 #[pyfunction]
 #[pyo3(signature = (flags, threads, progress=None))]
 fn render(
@@ -567,35 +551,57 @@ fn render(
     let job = args
         .job(&scene)
         .map_err(|e| value_error(format!("{e:#}")))?;
-    let total = u64::from(job.window.width) * u64::from(job.window.height);
-    let stop = AtomicBool::new(false);
-    let over = AtomicBool::new(false);
-    let done = AtomicU64::new(0);
+    let per_pixel = u64::from(job.samples.end - job.samples.start);
+    let total = u64::from(job.window.width) * u64::from(job.window.height) * per_pixel;
+    let (stop, over, done) = (
+        AtomicBool::new(false),
+        AtomicBool::new(false),
+        AtomicU64::new(0),
+    );
+    let caller = std::thread::current();
     let outcome = std::thread::scope(|s| -> PyResult<_> {
-        let worker = s.spawn(|| {
-            let resume = Resume {
-                done: Vec::new(),
-                on_tile: &|_| Ok(()),
-                stop: &stop,
+        let worker = s.spawn(|| -> anyhow::Result<Option<Rendered>> {
+            let _ended = Ended {
+                flag: &over,
+                caller,
             };
-            let r = run_resumable(
-                &job,
-                &|n| {
-                    done.fetch_add(n, Ordering::Relaxed);
-                },
-                resume,
-            );
-            over.store(true, Ordering::Release);
-            r
+            let mut whole: Option<Rendered> = None;
+            for samples in passes(&job) {
+                let n = u64::from(samples.end - samples.start);
+                let pass = Job {
+                    samples,
+                    ..job.clone()
+                };
+                let resume = Resume {
+                    done: Vec::new(),
+                    on_tile: &|_| Ok(()),
+                    stop: &stop,
+                };
+                let count = |pixels: u64| {
+                    done.fetch_add(pixels * n, Ordering::Relaxed);
+                };
+                match run_resumable(&pass, &count, resume)? {
+                    Outcome::Stopped { .. } => return Ok(None),
+                    Outcome::Finished(r) => match &mut whole {
+                        None => whole = Some(r),
+                        Some(w) => {
+                            for (a, b) in w.pixels.iter_mut().zip(&r.pixels) {
+                                a.merge(b);
+                            }
+                        }
+                    },
+                }
+            }
+            Ok(whole)
         });
+        let wait = || {
+            if !over.load(Ordering::Acquire) {
+                std::thread::park_timeout(POLL);
+            }
+        };
         let mut reported = u64::MAX;
         loop {
-            py.detach(|| {
-                let until = Instant::now() + POLL;
-                while !over.load(Ordering::Acquire) && Instant::now() < until {
-                    std::thread::sleep(Duration::from_millis(1));
-                }
-            });
+            py.detach(wait);
             let mut failed = py.check_signals().err();
             let now = done.load(Ordering::Relaxed);
             if failed.is_none()
@@ -607,7 +613,7 @@ fn render(
             }
             if let Some(e) = failed {
                 stop.store(true, Ordering::Relaxed);
-                // The tiles in flight finish; nothing else starts.
+                // The passes of tiles in flight finish; nothing else starts.
                 let _ = py.detach(|| worker.join());
                 return Err(e);
             }
@@ -618,26 +624,24 @@ fn render(
         py.detach(|| worker.join())
             .map_err(|_| PyRuntimeError::new_err("the render thread panicked"))
     })?;
-    match outcome.map_err(|e| value_error(format!("{e:#}")))? {
-        Outcome::Finished(r) => {
-            let (w, ext) = (
-                job.window,
-                job.layout().extent(job.window, job.width, job.height),
-            );
-            Ok(Film {
-                pixels: r.pixels,
-                width: ext.width as usize,
-                height: ext.height as usize,
-                window: [
-                    (w.x0 - ext.x0) as usize,
-                    (w.y0 - ext.y0) as usize,
-                    w.width as usize,
-                    w.height as usize,
-                ],
-            })
-        }
-        Outcome::Stopped { .. } => Err(PyRuntimeError::new_err("the render stopped early")),
-    }
+    let rendered = outcome
+        .map_err(|e| value_error(format!("{e:#}")))?
+        .ok_or_else(|| PyRuntimeError::new_err("the render stopped early"))?;
+    let (w, ext) = (
+        job.window,
+        job.layout().extent(job.window, job.width, job.height),
+    );
+    Ok(Film {
+        pixels: rendered.pixels,
+        width: ext.width as usize,
+        height: ext.height as usize,
+        window: [
+            (w.x0 - ext.x0) as usize,
+            (w.y0 - ext.y0) as usize,
+            w.width as usize,
+            w.height as usize,
+        ],
+    })
 }
 
 /// Whether this CPU runs x86-64-v3 code (AVX, AVX2, BMI1, BMI2, F16C,
@@ -675,6 +679,7 @@ fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(output_revision, m)?)?;
     m.add_function(wrap_pyfunction!(sampler_kinds, m)?)?;
     m.add_function(wrap_pyfunction!(mapping_names, m)?)?;
+    m.add_function(wrap_pyfunction!(mapping_arity, m)?)?;
     m.add_function(wrap_pyfunction!(per_sample_reference, m)?)?;
     m.add_function(wrap_pyfunction!(map, m)?)?;
     m.add_function(wrap_pyfunction!(onb, m)?)?;

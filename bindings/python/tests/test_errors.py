@@ -17,7 +17,7 @@ U = np.array([[0.5, 0.25]], np.float32)
         (lambda: strata.sample("uniform_sphere", [[None, 0.5]]), TypeError, "object"),
         (lambda: strata.sample("uniform_sphere", np.zeros((4, 3))), ValueError, "(..., 2)"),
         (lambda: strata.sample("uniform_ball", U), ValueError, "(..., 3)"),
-        (lambda: strata.sample("uniform_sphere", [[np.nan, 0.5]]), ValueError, "finite"),
+        (lambda: strata.sample("uniform_sphere", [[np.nan, 0.5]]), ValueError, "NaN"),
         (lambda: strata.sample("uniform_sphere", [[1.5, 0.5]]), ValueError, "[0, 1]"),
         (lambda: strata.sample("uniform_sphere", [[-0.5, 0.5]]), ValueError, "[0, 1]"),
         (lambda: strata.pdf("uniform_sphere", [[0, 0, np.inf]]), ValueError, "finite"),
@@ -59,7 +59,14 @@ U = np.array([[0.5, 0.25]], np.float32)
         (lambda: strata.render(spp=-3), ValueError, "-3"),
         (lambda: strata.render(sampler="best"), ValueError, "best"),
         (lambda: strata.render(unknown_flag=1), ValueError, "unknown-flag"),
-        (lambda: strata.render(output="x.png"), ValueError, "writes no files"),
+        (lambda: strata.render(output="x.png"), ValueError, "library render"),
+        (lambda: strata.render(width=8, seed=-1), ValueError, "-1"),
+        (lambda: strata.render(width=8, scene_file="--spp"), ValueError, "scene-file"),
+        (lambda: strata.pixel_samples([[0, 0]], [0], 2, sampler="zsobol", spp=4), ValueError, "resolution"),
+        (lambda: strata.pixel_samples([[0, 0]], [0], 2, sampler="sobol", spp=4, resolution=5), TypeError, "pair"),
+        (lambda: strata.Sobol(2, pixel=(1,)), TypeError, "pair"),
+        (lambda: strata.Spheres([[0, 0, 0, -1]]), ValueError, "radius"),
+        (lambda: strata.Spheres([[0, 0, 0, np.nan]]), ValueError, "spheres[0]"),
         (lambda: strata.render(width=8, threads=0), ValueError, "threads"),
         (lambda: strata.render(width=8, progress=3), TypeError, "callable"),
         (lambda: strata.render(width=8, seed=[1, 2]), ValueError, "seed"),
@@ -73,6 +80,19 @@ def test_bad_input_is_refused_with_a_message(call, error, words):
 
 
 def test_memory_that_cannot_exist_is_a_memory_error():
-    # 2^31 rows of 2^20 float64 values: far beyond any machine.
-    with pytest.raises((MemoryError, ValueError)):
+    # 2^31 rows of 2^20 float64 values: far beyond any machine. The
+    # engines make their output with numpy, which refuses it.
+    with pytest.raises(MemoryError):
         strata.Sobol(1 << 20, n_max=1 << 31).random(1 << 31)
+
+
+def test_empty_and_edge_requests_work():
+    assert strata.pixel_samples(np.zeros((0, 2), int), [], 3, sampler="sobol", spp=4).shape == (0, 3)
+    e = strata.Sobol(3, seed=1)
+    assert e.random(0).shape == (0, 3)
+    e.fast_forward(2**32)
+    assert e.random(0).shape == (0, 3)
+    with pytest.raises(ValueError, match="last sample index"):
+        e.random(1)
+    last = strata.Sobol(3, seed=1).fast_forward(2**32 - 2).random(2)
+    assert last.shape == (2, 3) and ((0 <= last) & (last < 1)).all()

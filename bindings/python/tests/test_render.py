@@ -56,12 +56,23 @@ def test_adaptive_renders_vary_their_samples():
     assert s.min() >= 16 and s.max() <= 64 and s.min() < s.max()
 
 
-def test_progress_reports_pixels_up_to_the_total():
+def test_progress_reports_pixel_samples_up_to_the_total():
     seen = []
     strata.render("week09", width=64, height=36, spp=8, tile=8, threads=2, progress=lambda d, t: seen.append((d, t)))
-    assert seen and seen[-1] == (64 * 36, 64 * 36)
-    assert all(t == 64 * 36 for _, t in seen)
+    total = 64 * 36 * 8
+    assert seen and seen[-1] == (total, total)
+    assert all(t == total for _, t in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+
+
+def test_passes_of_samples_add_up_to_the_one_shot_film():
+    # 600 spp in 32-pixel tiles renders in three passes of sample indices
+    # (256 + 256 + 88); in 2-pixel tiles in one. The films are the same.
+    for filt in ("box", "lanczos"):
+        passes = strata.render("cover", width=20, height=12, spp=600, tile=32, filter=filt, film=True)
+        one = strata.render("cover", width=20, height=12, spp=600, tile=2, filter=filt, film=True)
+        assert passes.hash() == one.hash(), filt
+        assert (passes.samples() == 600).all()
 
 
 def test_an_exception_in_progress_stops_the_render():
@@ -77,9 +88,9 @@ def test_an_exception_in_progress_stops_the_render():
 
 
 def test_ctrl_c_stops_a_long_render():
-    # A render of minutes; Ctrl-C (as Python's signal handler sees it)
-    # arrives once it has started. It must stop with KeyboardInterrupt
-    # before the last pixel.
+    # A render of minutes in 32-pixel tiles; Ctrl-C (as Python's signal
+    # handler sees it) arrives once it has started. It must stop with
+    # KeyboardInterrupt before the last pixel sample: within a pass.
     seen = []
 
     def progress(done, total):
@@ -88,8 +99,8 @@ def test_ctrl_c_stops_a_long_render():
         seen.append(done)
 
     with pytest.raises(KeyboardInterrupt):
-        strata.render("cover", width=400, height=225, spp=4096, tile=8, progress=progress)
-    assert seen[-1] < 400 * 225
+        strata.render("cover", width=400, height=225, spp=65536, progress=progress)
+    assert seen[-1] < 400 * 225 * 65536
 
 
 def _other_thread_runs_during(call):

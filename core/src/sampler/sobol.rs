@@ -407,7 +407,7 @@ impl Sampler for Sobol {
 
     /// Eight consecutive samples at once: each 2-D pair's keys are made
     /// once per block of dimensions, and the lanes of a pair are eight
-    /// sample indices (the integer maths of [`padded_block`], lane for
+    /// sample indices (the integer maths of `padded_block`, lane for
     /// lane, so the bits are the per-sample draws').
     #[inline]
     fn fill_run(&mut self, pixel: UVec2, first: u32, dims: usize, out: &mut [f32]) {

@@ -24,7 +24,7 @@ import os
 import numpy as np
 
 from ._native import native as _strata
-from ._arrays import U32_MAX, count, floats, seed_of, uints
+from ._arrays import U32_MAX, count, floats, pair, seed_of, uints
 from ._engines import (
     ENGINES,
     HAVE_SCIPY,
@@ -96,8 +96,8 @@ def pixel_samples(pixels, indices, dims, *, sampler, spp, seed=0, resolution=Non
     """The first ``dims`` dimensions of pixel samples, as a render draws
     them: sample ``indices[...]`` of pixel ``pixels[..., :]`` (x, y) of the
     ``sampler`` kind built for ``spp`` samples per pixel and ``seed``
-    (``resolution`` = (width, height) of the image, used by ``zsobol``
-    only). ``pixels`` has shape ``(..., 2)``, ``indices`` broadcasts
+    (``resolution`` = (width, height) of the image: ``zsobol`` needs it,
+    the other kinds ignore it). ``pixels`` has shape ``(..., 2)``, ``indices`` broadcasts
     against its leading shape; the result is float32 ``(..., dims)``:
     dimensions 0 and 1 are the position in the pixel, then 2-D pairs, then
     a 1-D value when ``dims`` is odd.
@@ -122,11 +122,14 @@ def pixel_samples(pixels, indices, dims, *, sampler, spp, seed=0, resolution=Non
         ) from None
     p = np.ascontiguousarray(np.broadcast_to(p, lead + (2,)).reshape(-1, 2))
     i = np.ascontiguousarray(np.broadcast_to(i, lead).reshape(-1))
-    if resolution is None:
-        width = int(p[:, 0].max()) + 1 if p.size else 1
-        height = int(p[:, 1].max()) + 1 if p.size else 1
+    if resolution is not None:
+        width, height = pair(resolution, "resolution", low=1)
+    elif sampler == "zsobol":
+        # ZSobol' orders the image's pixels along one curve: its values
+        # depend on the resolution, which the pixels given cannot tell.
+        raise ValueError("the zsobol sampler needs resolution=(width, height)")
     else:
-        width, height = (count(v, "resolution", low=1, high=U32_MAX) for v in resolution)
+        width = height = 1  # the other kinds treat every pixel alike
     s = _strata.Sampler(sampler, spp, seed, width, height)
     out = np.empty((len(i), dims), np.float32)
     s.fill_into(p, i, out)
@@ -139,12 +142,10 @@ def pixel_samples(pixels, indices, dims, *, sampler, spp, seed=0, resolution=Non
 def _map(op, mapping, values, cone):
     if mapping not in MAPPINGS:
         raise ValueError(f"unknown mapping {mapping!r}: one of {', '.join(MAPPINGS)}")
-    cols = {"uniform_ball": 3, "concentric_disk": 2, "polar_disk": 2}.get(mapping, 3)
-    if op == "sample":
-        cols = 3 if mapping == "uniform_ball" else 2
+    u_cols, p_cols = _strata.mapping_arity(mapping)
     if isinstance(cone, (bool, np.bool_)) or not isinstance(cone, (int, float, np.floating, np.integer)):
         raise TypeError(f"cone must be a real number, not {type(cone).__name__}")
-    rows, lead = floats(values, "u" if op == "sample" else "points", cols)
+    rows, lead = floats(values, "u" if op == "sample" else "points", u_cols if op == "sample" else p_cols)
     out = _strata.map(op, mapping, float(cone), rows)
     return out.reshape(lead) if op == "pdf" else out.reshape(lead + (out.shape[1],))
 
@@ -312,11 +313,6 @@ class Spheres:
 
 # ------------------------------------------------------------ rendering
 
-#: ``render``'s keywords that name files or the run: the library renders
-#: into arrays on the threads it is given.
-_NOT_FLAGS = {"output", "stats", "spp_map", "checkpoint", "no_checkpoint", "resume"}
-
-
 def render(scene="week09", *, threads=None, progress=None, film=False, **settings):
     """Renders ``scene`` (a built-in name or a TOML file's path) with the
     settings of ``strata render``, given as keywords: ``width``,
@@ -330,39 +326,41 @@ def render(scene="week09", *, threads=None, progress=None, film=False, **setting
     3)``, or with ``film=True`` the exact film (:class:`Film`: its
     ``rgb()``, integer ``sums()``, ``samples()`` and ``hash()``, the golden
     table's hash). ``threads`` defaults to the CPUs available; pixels never
-    depend on it. ``progress(done, total)`` is called with pixels finished
-    as the render goes. Ctrl-C stops the render once the tiles in flight
-    finish and raises ``KeyboardInterrupt``.
+    depend on it. ``progress(done, total)`` is called with the pixel
+    samples rendered as the render goes. It renders in passes of sample
+    indices (their exact films add up to the one-shot film, bit for bit):
+    Ctrl-C stops it once the passes of the tiles in flight finish and
+    raises ``KeyboardInterrupt`` (an adaptive render is one pass).
 
     >>> import strata
     >>> img = strata.render("week09", width=32, height=18, spp=4, sampler="sobol")
     >>> img.shape, str(img.dtype)
     ((18, 32, 3), 'float32')
     """
-    flags = []
     if not isinstance(scene, (str, os.PathLike)):
         raise TypeError(f"scene must be a name or a path, not {type(scene).__name__}")
-    flags += ["--scene", os.fspath(scene)]
+    # `--flag=value`: a value that starts with '-' stays a value.
+    flags = ["--scene=" + os.fspath(scene)]
     for key, value in settings.items():
-        if key in _NOT_FLAGS:
-            raise ValueError(f"{key}=: a library render returns arrays; it writes no files")
         flag = "--" + key.replace("_", "-")
-        if value is True:
-            flags.append(flag)
-        elif value is False or value is None:
+        if isinstance(value, (bool, np.bool_)):
+            if value:
+                flags.append(flag)
+        elif value is None:
             continue
         elif isinstance(value, (str, int, float, np.integer, np.floating, os.PathLike)):
-            flags += [flag, os.fspath(value) if isinstance(value, os.PathLike) else str(value)]
+            flags.append(f"{flag}={os.fspath(value) if isinstance(value, os.PathLike) else value}")
         elif isinstance(value, range):
             if value.step != 1:
                 raise ValueError(f"{key}=: a range of step 1, not {value}")
-            flags += [flag, f"{value.start}..{value.stop}"]
+            flags.append(f"{flag}={value.start}..{value.stop}")
         elif isinstance(value, (tuple, list)):
-            flags += [flag, ",".join(str(v) for v in value)]
+            flags.append(f"{flag}={','.join(str(v) for v in value)}")
         else:
             raise TypeError(f"{key}= takes a number, a string or a bool, not {type(value).__name__}")
     if threads is None:
-        threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        threads = min(cpus, 512)  # the runner's limit
     threads = count(threads, "threads", low=1, high=65535)
     if progress is not None and not callable(progress):
         raise TypeError("progress must be callable as progress(done, total)")

@@ -40,10 +40,23 @@ def floats(values, name: str, cols: int) -> tuple[np.ndarray, tuple[int, ...]]:
     return np.ascontiguousarray(a.reshape(-1, cols), dtype=np.float32), lead
 
 
+def pair(value, name: str, *, low: int = 0) -> tuple[int, int]:
+    """Two integers in ``[low, 2**32 - 1]``, such as a pixel or a
+    resolution."""
+    try:
+        a, b = value
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a pair of integers, not {value!r}") from None
+    return count(a, name, low=low, high=U32_MAX), count(b, name, low=low, high=U32_MAX)
+
+
 def uints(values, name: str) -> np.ndarray:
     """``values`` as a contiguous uint32 array: integers in
-    ``[0, 2**32 - 1]`` only (floats and bools are a ``TypeError``)."""
+    ``[0, 2**32 - 1]`` only (floats and bools are a ``TypeError``; an
+    empty list is taken whatever numpy makes of it)."""
     a = np.asarray(values)
+    if a.size == 0 and a.dtype.kind in "fiu":
+        return np.zeros(a.shape, np.uint32)
     if a.dtype.kind not in "iu":
         raise TypeError(f"{name}: expected integers, not dtype {a.dtype}")
     if a.size and (a.min() < 0 or a.max() > U32_MAX):

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._native import native as _strata
-from ._arrays import U32_MAX, count, seed_of
+from ._arrays import U32_MAX, count, pair, seed_of
 
 try:  # SciPy is optional: without it the engines stand alone.
     from scipy.stats.qmc import QMCEngine as _Base
@@ -75,10 +75,10 @@ class _Engine(_Base):
     ):
         d = count(d, "d", high=1 << 20)
         n_max = count(n_max, "n_max", low=1, high=U32_MAX)
-        px, py = (count(v, "pixel", high=U32_MAX) for v in pixel)
+        px, py = pair(pixel, "pixel")
         if resolution is None:
-            resolution = (px + 1, py + 1)
-        width, height = (count(v, "resolution", low=1, high=U32_MAX) for v in resolution)
+            resolution = (min(px + 1, U32_MAX), min(py + 1, U32_MAX))
+        width, height = pair(resolution, "resolution", low=1)
         self.seed = seed_of(seed, rng)
         self._sampler = _strata.Sampler(self._kind, n_max, self.seed, width, height)
         self._pixel = (px, py)
@@ -116,6 +116,8 @@ class _Engine(_Base):
                 f"{first} points drawn and {n} more pass the last sample index, {U32_MAX}"
             )
         out = np.empty((n, self.d))
+        if n == 0:
+            return out
         self._sampler.run_into(self._pixel[0], self._pixel[1], first, out)
         return out
 
