@@ -571,12 +571,12 @@ pub fn onb_rows(
 /// checks its range) and a finite radius of at least 0.
 ///
 /// # Errors
-/// [`BatchError::Size`] for a ragged array or more spheres than a tree
-/// holds; [`BatchError::Value`] naming the first bad sphere.
+/// [`BatchError::Size`] for a ragged array; [`BatchError::Value`] for more
+/// spheres than a tree holds, or naming the first bad sphere.
 pub fn spheres_from_rows(rows_in: &[f32]) -> Result<Vec<Sphere>, BatchError> {
     let n = rows(rows_in, 4, "spheres")?;
     if n > BVH_MAX_SPHERES {
-        return Err(BatchError::Size(format!(
+        return Err(BatchError::Value(format!(
             "{n} spheres: a tree holds at most {BVH_MAX_SPHERES}"
         )));
     }

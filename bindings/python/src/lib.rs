@@ -178,16 +178,21 @@ impl Sampler {
         first: u32,
         mut out: PyReadwriteArray2<'_, f64>,
     ) -> PyResult<()> {
-        let dims = out.shape()[1];
+        let [n, dims] = [out.shape()[0], out.shape()[1]];
+        if u64::from(first) + n as u64 > 1 << 32 {
+            return Err(value_error(format!(
+                "{n} samples from index {first} pass the last index, {}",
+                u32::MAX
+            )));
+        }
         let out = out
             .as_slice_mut()
             .map_err(|_| value_error("out is not a C-contiguous array"))?;
         let inner = &mut self.inner;
         py.detach(|| {
             by_chunks(out, dims, |row, _, chunk| {
-                // The first chunk checks the run's end against u32::MAX.
-                let start = u32::try_from(u64::from(first) + row as u64).unwrap_or(u32::MAX);
-                inner.fill_pixel(UVec2::new(x, y), start, dims, chunk)
+                // Within u32: the run's end is checked above.
+                inner.fill_pixel(UVec2::new(x, y), first + row as u32, dims, chunk)
             })
         })
     }
@@ -511,8 +516,11 @@ fn passes(job: &Job<'_>) -> Vec<Range<u32>> {
     if job.adaptive.is_some() || r.is_empty() {
         return vec![r];
     }
-    let side = u64::from(tile_side(job)).max(1);
-    let per = u32::try_from((PASS_PATHS / (side * side)).max(1)).unwrap_or(u32::MAX);
+    // The largest tile's real area: a tile larger than the window is the
+    // window.
+    let side = tile_side(job).max(1);
+    let area = u64::from(side.min(job.window.width)) * u64::from(side.min(job.window.height));
+    let per = u32::try_from((PASS_PATHS / area.max(1)).max(1)).unwrap_or(u32::MAX);
     (r.start..r.end)
         .step_by(per as usize)
         .map(|a| a..a.saturating_add(per).min(r.end))
@@ -602,6 +610,9 @@ fn render(
         let mut reported = u64::MAX;
         loop {
             py.detach(wait);
+            // `over` before `done`: once it is seen, the count is final
+            // and this round reports it.
+            let ended = over.load(Ordering::Acquire);
             let mut failed = py.check_signals().err();
             let now = done.load(Ordering::Relaxed);
             if failed.is_none()
@@ -617,7 +628,7 @@ fn render(
                 let _ = py.detach(|| worker.join());
                 return Err(e);
             }
-            if over.load(Ordering::Acquire) {
+            if ended {
                 break;
             }
         }

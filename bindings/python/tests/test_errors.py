@@ -86,6 +86,15 @@ def test_memory_that_cannot_exist_is_a_memory_error():
         strata.Sobol(1 << 20, n_max=1 << 31).random(1 << 31)
 
 
+def test_the_native_run_checks_its_last_index():
+    from strata import _native
+
+    s = _native.native.Sampler("independent", 16, 1, 1, 1)
+    with pytest.raises(ValueError, match="pass the last index"):
+        s.run_into(0, 0, 2**32 - 4096, np.empty((4097, 1)))
+    s.run_into(0, 0, 2**32 - 4096, np.empty((4096, 1)))
+
+
 def test_empty_and_edge_requests_work():
     assert strata.pixel_samples(np.zeros((0, 2), int), [], 3, sampler="sobol", spp=4).shape == (0, 3)
     e = strata.Sobol(3, seed=1)

@@ -63,6 +63,15 @@ def test_progress_reports_pixel_samples_up_to_the_total():
     assert seen and seen[-1] == (total, total)
     assert all(t == total for _, t in seen)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+    # A slow callback still gets the last count.
+    slow = []
+
+    def cb(done, total):
+        slow.append(done)
+        time.sleep(0.05)
+
+    strata.render("week09", width=64, height=36, spp=8, threads=2, progress=cb)
+    assert slow[-1] == total
 
 
 def test_passes_of_samples_add_up_to_the_one_shot_film():
