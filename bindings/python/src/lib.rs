@@ -21,6 +21,7 @@ use pyo3::prelude::*;
 use strata::Sampler as _;
 use strata::glam::UVec2;
 use strata::render::PixelSum;
+use strata::sampler::draw_row;
 use strata::trace::{BvhStack, OwnedBvh, simd_level};
 use strata_runner::batch::{
     AnySampler, Basis, BatchError, MapOp, Mapping, RayParts, map_rows, onb_rows, query_rays,
@@ -228,7 +229,7 @@ fn by_chunks<T: From<f32>>(
     Ok(())
 }
 
-/// The same values as [`Sampler::run`] drawn through the core's public
+/// The same values as [`Sampler::run_into`] drawn through the core's public
 /// per-sample API into a vector (`start_pixel_sample`, `pixel_2d`,
 /// `next_2d` pairs, `next_1d` for an odd last), timed in Rust: the
 /// benchmark's reference. Returns the seconds and the values' checksum
@@ -256,19 +257,12 @@ fn per_sample_reference(
             )));
         }
         strata_runner::with_any_sampler!(&mut s, s => {
+            let mut row = vec![0.0f64; dims];
             for i in 0..n {
                 s.start_pixel_sample(UVec2::ZERO, i);
-                let p = s.pixel_2d();
-                out.extend([f64::from(p.x), f64::from(p.y)].iter().take(dims));
-                let mut d = 2;
-                while d + 2 <= dims {
-                    let v = s.next_2d();
-                    out.extend([f64::from(v.x), f64::from(v.y)]);
-                    d += 2;
-                }
-                if d < dims {
-                    out.push(s.next_1d().into());
-                }
+                // pixel_2d, next_2d pairs, a last next_1d: the core's order.
+                draw_row(s, &mut row);
+                out.extend_from_slice(&row);
             }
         });
         let seconds = start.elapsed().as_secs_f64();
