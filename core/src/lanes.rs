@@ -23,11 +23,13 @@
 //! same order for one lane and for eight, so the scalar reference and its
 //! SIMD twin return the same bits by construction. Only operations that are
 //! exact per lane on every x86-64 level are exposed: `+ − × ÷ √`,
-//! comparisons and selects. Not `recip`, `recip_sqrt`, `mul_add`, `min` or
-//! `max`, whose results or NaN rules differ between CPUs or between `f32`
-//! and `f32x8`.
+//! comparisons and selects, bit casts, integer `+ − & | ^ << >>`, and the
+//! conversions between integers and floats (truncating, saturating with
+//! NaN to 0 like Rust's `as` in both forms). Not `recip`, `recip_sqrt`,
+//! `mul_add`, `min` or `max`, whose results or NaN rules differ between
+//! CPUs or between `f32` and `f32x8`.
 
-use core::ops::{Add, Div, Mul, Neg, Sub};
+use core::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Shl, Shr, Sub};
 
 use glam::Vec3;
 
@@ -44,22 +46,84 @@ pub(crate) trait Lanes:
 {
     /// `bool` for one lane, an all-ones/all-zeros `f32x8` for eight.
     type Mask: Copy;
+    /// `i32` lanes of the same width: `i32` or `i32x8`. Their `+` and `−`
+    /// must not overflow (a debug build checks the scalar form); shifts
+    /// are by less than 32, `>>` is arithmetic.
+    type Int: Copy
+        + Add<Output = Self::Int>
+        + Sub<Output = Self::Int>
+        + BitAnd<Output = Self::Int>
+        + BitOr<Output = Self::Int>
+        + BitXor<Output = Self::Int>
+        + Shl<u32, Output = Self::Int>
+        + Shr<u32, Output = Self::Int>;
     fn splat(x: f32) -> Self;
     fn sqrt(self) -> Self;
     /// Comparisons are false when either side is NaN.
     fn lt(self, rhs: Self) -> Self::Mask;
+    fn le(self, rhs: Self) -> Self::Mask;
     fn gt(self, rhs: Self) -> Self::Mask;
     fn ge(self, rhs: Self) -> Self::Mask;
+    /// `-0.0` equals `0.0`; NaN equals nothing.
+    fn eq(self, rhs: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// The lanes not set in `mask`.
+    fn not(mask: Self::Mask) -> Self::Mask;
     /// Whether any lane of the mask is set.
     fn any(mask: Self::Mask) -> bool;
     /// `if mask { a } else { b }` per lane.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// `x` in every integer lane.
+    fn splat_int(x: i32) -> Self::Int;
+    /// The IEEE bits of each lane.
+    fn to_bits(self) -> Self::Int;
+    /// The lanes with these IEEE bits.
+    fn from_bits(bits: Self::Int) -> Self;
+    /// Each lane truncated towards zero to an integer, saturating, NaN to
+    /// 0 (Rust's `as i32`).
+    fn to_int(self) -> Self::Int;
+    /// Each integer lane rounded to the nearest float (Rust's `as f32`).
+    fn from_int(i: Self::Int) -> Self;
+    /// `a == b` per integer lane.
+    fn int_eq(a: Self::Int, b: Self::Int) -> Self::Mask;
+    /// `a < b` per integer lane.
+    fn int_lt(a: Self::Int, b: Self::Int) -> Self::Mask;
+    /// `if mask { a } else { b }` per integer lane.
+    fn select_int(mask: Self::Mask, a: Self::Int, b: Self::Int) -> Self::Int;
+
+    /// `|x|`, by clearing the sign bit (so `|−0| = 0` and NaNs lose their
+    /// sign).
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Self::from_bits(self.to_bits() & Self::splat_int(i32::MAX))
+    }
+
+    /// The lanes whose sign bit is set (`−0.0` and negative NaNs included).
+    #[inline(always)]
+    fn sign_bit(self) -> Self::Mask {
+        Self::int_lt(self.to_bits(), Self::splat_int(0))
+    }
+
+    /// `|x|` with the sign bit of `sign`.
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        let magnitude = self.to_bits() & Self::splat_int(i32::MAX);
+        Self::from_bits(magnitude | (sign.to_bits() & Self::splat_int(i32::MIN)))
+    }
+
+    /// `x` clamped to `[lo, hi]`; NaN stays NaN (unlike `max`/`min`,
+    /// whose NaN rules differ between `f32` and SIMD instructions).
+    #[inline(always)]
+    fn clamp_to(self, lo: f32, hi: f32) -> Self {
+        let x = Self::select(self.lt(Self::splat(lo)), Self::splat(lo), self);
+        Self::select(x.gt(Self::splat(hi)), Self::splat(hi), x)
+    }
 }
 
 impl Lanes for f32 {
     type Mask = bool;
+    type Int = i32;
     #[inline(always)]
     fn splat(x: f32) -> Self {
         x
@@ -71,6 +135,50 @@ impl Lanes for f32 {
     #[inline(always)]
     fn lt(self, rhs: Self) -> bool {
         self < rhs
+    }
+    #[inline(always)]
+    fn le(self, rhs: Self) -> bool {
+        self <= rhs
+    }
+    #[inline(always)]
+    fn eq(self, rhs: Self) -> bool {
+        self == rhs
+    }
+    #[inline(always)]
+    fn not(mask: bool) -> bool {
+        !mask
+    }
+    #[inline(always)]
+    fn splat_int(x: i32) -> i32 {
+        x
+    }
+    #[inline(always)]
+    fn to_bits(self) -> i32 {
+        f32::to_bits(self) as i32
+    }
+    #[inline(always)]
+    fn from_bits(bits: i32) -> Self {
+        f32::from_bits(bits as u32)
+    }
+    #[inline(always)]
+    fn to_int(self) -> i32 {
+        self as i32
+    }
+    #[inline(always)]
+    fn from_int(i: i32) -> Self {
+        i as f32
+    }
+    #[inline(always)]
+    fn int_eq(a: i32, b: i32) -> bool {
+        a == b
+    }
+    #[inline(always)]
+    fn int_lt(a: i32, b: i32) -> bool {
+        a < b
+    }
+    #[inline(always)]
+    fn select_int(mask: bool, a: i32, b: i32) -> i32 {
+        if mask { a } else { b }
     }
     #[inline(always)]
     fn gt(self, rhs: Self) -> bool {
@@ -100,6 +208,7 @@ impl Lanes for f32 {
 
 impl Lanes for f32x8 {
     type Mask = f32x8;
+    type Int = i32x8;
     #[inline(always)]
     fn splat(x: f32) -> Self {
         f32x8::splat(x)
@@ -111,6 +220,51 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn lt(self, rhs: Self) -> f32x8 {
         lanes_lt(self, rhs)
+    }
+    #[inline(always)]
+    fn le(self, rhs: Self) -> f32x8 {
+        lanes_le(self, rhs)
+    }
+    #[inline(always)]
+    fn eq(self, rhs: Self) -> f32x8 {
+        lanes_eq(self, rhs)
+    }
+    #[inline(always)]
+    fn not(mask: f32x8) -> f32x8 {
+        !mask
+    }
+    #[inline(always)]
+    fn splat_int(x: i32) -> i32x8 {
+        i32x8::splat(x)
+    }
+    #[inline(always)]
+    fn to_bits(self) -> i32x8 {
+        wide::bytemuck::cast(self)
+    }
+    #[inline(always)]
+    fn from_bits(bits: i32x8) -> Self {
+        wide::bytemuck::cast(bits)
+    }
+    #[inline(always)]
+    fn to_int(self) -> i32x8 {
+        // wide's saturating form: NaN to 0, like `as` (not `fast_trunc_int`).
+        self.trunc_int()
+    }
+    #[inline(always)]
+    fn from_int(i: i32x8) -> Self {
+        f32x8::from_i32x8(i)
+    }
+    #[inline(always)]
+    fn int_eq(a: i32x8, b: i32x8) -> f32x8 {
+        mask_from_i32(lanes_eq_i32(a, b))
+    }
+    #[inline(always)]
+    fn int_lt(a: i32x8, b: i32x8) -> f32x8 {
+        mask_from_i32(lanes_lt_i32(a, b))
+    }
+    #[inline(always)]
+    fn select_int(mask: f32x8, a: i32x8, b: i32x8) -> i32x8 {
+        lanes_select_i32(mask, a, b)
     }
     #[inline(always)]
     fn gt(self, rhs: Self) -> f32x8 {
@@ -296,4 +450,113 @@ pub(crate) fn mask_sign(v: f32x8) -> f32x8 {
 pub(crate) fn lanes_abs(v: f32x8) -> f32x8 {
     let bits: i32x8 = wide::bytemuck::cast(v);
     wide::bytemuck::cast(bits & i32x8::splat(i32::MAX))
+}
+
+/// Test inputs of every class a lane function must treat alike in both
+/// forms, and the check that it does.
+#[cfg(test)]
+pub(crate) mod classes {
+    use std::vec::Vec;
+
+    use super::f32x8;
+
+    /// Zeros, subnormals, the smallest normal, ±1 and their neighbours,
+    /// halves, NaNs (both signs, a payload), infinities, huge values,
+    /// and a spread of ordinary ones of both signs.
+    pub(crate) fn inputs() -> Vec<f32> {
+        let mut v = std::vec![
+            0.0,
+            -0.0,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            f32::from_bits(0x007f_ffff),
+            -f32::from_bits(0x0040_0000),
+            f32::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            f32::from_bits(1.0f32.to_bits() + 1),
+            f32::from_bits(1.0f32.to_bits() - 1),
+            -f32::from_bits(1.0f32.to_bits() + 1),
+            -f32::from_bits(1.0f32.to_bits() - 1),
+            0.5,
+            -0.5,
+            0.414_213_57,
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0x7fc0_1234),
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            -f32::MAX,
+            1e30,
+            -1e30,
+            3e9,
+            -3e9,
+            1_048_576.0,
+            127.5,
+            128.0,
+            -150.0,
+            -150.5,
+            -126.5,
+        ];
+        for k in -40..=40 {
+            v.push(k as f32 * 0.061_3);
+            v.push(k as f32 * 7.37);
+        }
+        v
+    }
+
+    /// `scalar(x)` and lane `k` of `wide(x₀…x₇)` agree bit for bit on
+    /// every input, with each input tried in every lane position.
+    pub(crate) fn same_bits_1(
+        name: &str,
+        scalar: impl Fn(f32) -> f32,
+        wide: impl Fn(f32x8) -> f32x8,
+    ) {
+        let xs = inputs();
+        for shift in 0..8 {
+            for chunk in xs.chunks(8) {
+                let mut a = [0.25f32; 8];
+                for (k, &x) in chunk.iter().enumerate() {
+                    a[(k + shift) % 8] = x;
+                }
+                let got = wide(f32x8::new(a)).to_array();
+                for k in 0..8 {
+                    let want = scalar(a[k]);
+                    assert_eq!(got[k].to_bits(), want.to_bits(), "{name}({:e})", a[k]);
+                }
+            }
+        }
+    }
+
+    /// [`same_bits_1`] for functions of two lanes, on every pair of
+    /// inputs.
+    pub(crate) fn same_bits_2(
+        name: &str,
+        scalar: impl Fn(f32, f32) -> f32,
+        wide: impl Fn(f32x8, f32x8) -> f32x8,
+    ) {
+        let xs = inputs();
+        let pairs: Vec<(f32, f32)> = xs
+            .iter()
+            .flat_map(|&a| xs.iter().map(move |&b| (a, b)))
+            .collect();
+        for chunk in pairs.chunks(8) {
+            let (mut a, mut b) = ([0.25f32; 8], [0.5f32; 8]);
+            for (k, &(x, y)) in chunk.iter().enumerate() {
+                (a[k], b[k]) = (x, y);
+            }
+            let got = wide(f32x8::new(a), f32x8::new(b)).to_array();
+            for k in 0..8 {
+                let want = scalar(a[k], b[k]);
+                assert_eq!(
+                    got[k].to_bits(),
+                    want.to_bits(),
+                    "{name}({:e}, {:e})",
+                    a[k],
+                    b[k]
+                );
+            }
+        }
+    }
 }

@@ -14,67 +14,65 @@
 
 use core::f32::consts::{LN_2, LOG2_E, SQRT_2};
 
+use crate::lanes::Lanes;
+
 /// `log₂ x` for a finite `x > 0` (subnormals included).
 #[inline(always)]
-fn log2_positive(x: f32) -> f32 {
+fn log2_positive<L: Lanes>(x: L) -> L {
+    let (k, int) = (L::splat, L::splat_int);
     // Subnormals are scaled into the normal range first.
-    let tiny = x < f32::MIN_POSITIVE;
-    let (x, e_tiny) = if tiny {
-        (x * 16_777_216.0, -24)
-    } else {
-        (x, 0)
-    };
+    let tiny = x.lt(k(f32::MIN_POSITIVE));
+    let x = L::select(tiny, x * k(16_777_216.0), x);
     let bits = x.to_bits();
-    let mut e = ((bits >> 23) as i32) - 127 + e_tiny;
+    let e = (bits >> 23) - int(127) + L::select_int(tiny, int(-24), int(0));
     // The mantissa in [1, 2), then in [√½, √2), so that s below is small.
-    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
-    if m > SQRT_2 {
-        m *= 0.5;
-        e += 1;
-    }
+    let m = L::from_bits((bits & int(0x007f_ffff)) | int(0x3f80_0000));
+    let big = m.gt(k(SQRT_2));
+    let m = L::select(big, m * k(0.5), m);
+    let e = e + L::select_int(big, int(1), int(0));
     // ln m = 2 atanh s, s = (m − 1)/(m + 1), |s| ≤ 0.172: the series to
     // s⁹ leaves less than 10⁻⁹. m − 1 is exact (Sterbenz).
-    let s = (m - 1.0) / (m + 1.0);
+    let s = (m - k(1.0)) / (m + k(1.0));
     let s2 = s * s;
-    let ln_m =
-        2.0 * s * (1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 * (1.0 / 9.0)))));
-    e as f32 + ln_m * LOG2_E
+    let series =
+        k(1.0) + s2 * (k(1.0 / 3.0) + s2 * (k(1.0 / 5.0) + s2 * (k(1.0 / 7.0) + s2 * k(1.0 / 9.0))));
+    let ln_m = k(2.0) * s * series;
+    L::from_int(e) + ln_m * k(LOG2_E)
 }
 
-/// `2^y` for `y` not NaN: `0` below −150, `+∞` from 128.
+/// `2^y`: `0` below −150, `+∞` from 128, NaN for NaN; within 3·10⁻⁷,
+/// relative, elsewhere (plus half the subnormal step), tested.
 #[inline(always)]
-fn exp2(y: f32) -> f32 {
-    if y < -150.0 {
-        return 0.0;
-    }
-    if y >= 128.0 {
-        return f32::INFINITY;
-    }
+pub(crate) fn exp2<L: Lanes>(y: L) -> L {
+    let (k, int) = (L::splat, L::splat_int);
+    // Clamped so the exponent arithmetic below stays in range; the lanes
+    // outside are replaced at the end.
+    let yc = y.clamp_to(-151.0, 128.0);
     // Adding and taking away 1.5·2²³ rounds to the nearest integer (ties
     // to even) for |y| < 2²²: exact IEEE steps; the fraction f = y − n is
     // exact too, |f| ≤ ½.
     const ROUND: f32 = 12_582_912.0;
-    let n = (y + ROUND) - ROUND;
-    let f = y - n;
+    let n = (yc + k(ROUND)) - k(ROUND);
+    let f = yc - n;
     // 2^f = e^(f ln 2) by Taylor to degree 7 (truncation below 6·10⁻⁹).
-    let p = 1.0
-        + f * (LN_2
-            + f * (0.240_226_5
-                + f * (0.055_504_11
-                    + f * (0.009_618_129
-                        + f * (0.001_333_355_8 + f * (0.000_154_035_3 + f * 0.000_015_252_734))))));
+    let p = k(1.0)
+        + f * (k(LN_2)
+            + f * (k(0.240_226_5)
+                + f * (k(0.055_504_11)
+                    + f * (k(0.009_618_129)
+                        + f * (k(0.001_333_355_8)
+                            + f * (k(0.000_154_035_3) + f * k(0.000_015_252_734)))))));
     // 2ⁿ as an f32 in two exact factors where n is outside the normal
     // exponents (n = 128, or n < −126 for a subnormal result): the first
-    // product is exact, the second rounds once.
-    let n = n as i32;
-    let (n1, second) = if n > 127 {
-        (n - 1, 2.0)
-    } else if n < -126 {
-        (n + 64, 1.0 / 18_446_744_073_709_551_616.0)
-    } else {
-        (n, 1.0)
-    };
-    p * f32::from_bits(((n1 + 127) as u32) << 23) * second
+    // product is exact, the second rounds once. (A NaN n converts to 0.)
+    let n = n.to_int();
+    let high = L::int_lt(int(127), n);
+    let low = L::int_lt(n, int(-126));
+    let n1 = L::select_int(high, n - int(1), L::select_int(low, n + int(64), n));
+    let second = L::select(high, k(2.0), L::select(low, k(1.0 / 18_446_744_073_709_551_616.0), k(1.0)));
+    let r = p * L::from_bits((n1 + int(127)) << 23) * second;
+    let r = L::select(y.lt(k(-150.0)), k(0.0), r);
+    L::select(y.ge(k(128.0)), k(f32::INFINITY), r)
 }
 
 /// `xᵃ` for `x ≥ 0` and a finite `a ≥ 0`: `x⁰ = 1` (`0⁰` included, as
@@ -82,25 +80,55 @@ fn exp2(y: f32) -> f32 {
 /// accuracy elsewhere (`+∞` where it overflows, 0 below the smallest
 /// subnormal). A NaN `x` gives NaN.
 #[inline]
-pub(crate) fn pow_nonneg(x: f32, a: f32) -> f32 {
-    if a == 0.0 {
-        return 1.0;
-    }
-    if x.is_nan() {
-        return f32::NAN;
-    }
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x == f32::INFINITY {
-        return f32::INFINITY;
-    }
-    exp2(a * log2_positive(x))
+pub(crate) fn pow_nonneg<L: Lanes>(x: L, a: L) -> L {
+    let k = L::splat;
+    // Lanes outside (0, ∞) take 1 so the logarithm sees a finite positive
+    // number; they are replaced below.
+    let inside = L::and(x.gt(k(0.0)), x.lt(k(f32::INFINITY)));
+    let r = exp2(a * log2_positive(L::select(inside, x, k(1.0))));
+    let r = L::select(x.eq(k(f32::INFINITY)), k(f32::INFINITY), r);
+    let r = L::select(x.le(k(0.0)), k(0.0), r);
+    let r = L::select(x.eq(x), r, k(f32::NAN));
+    L::select(a.eq(k(0.0)), k(1.0), r)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::lanes::{classes, f32x8};
+
+    #[test]
+    fn lane_forms_give_the_scalar_bits() {
+        classes::same_bits_1("exp2", exp2::<f32>, exp2::<f32x8>);
+        classes::same_bits_1("log2", log2_positive::<f32>, log2_positive::<f32x8>);
+        classes::same_bits_2("pow", pow_nonneg::<f32>, pow_nonneg::<f32x8>);
+    }
+
+    #[test]
+    fn exp2_is_within_its_bound_of_f64() {
+        let mut worst = 0.0f64;
+        for i in -160_000..=130_000 {
+            let y = i as f32 / 1000.0 + 0.000_3;
+            let want = libm::exp2(f64::from(y));
+            let got = f64::from(exp2(y));
+            if want >= f64::from(f32::MAX) {
+                assert_eq!(got, f64::INFINITY, "2^{y}");
+                continue;
+            }
+            let bound = want * 3e-7 + 0.5 * f64::from(f32::from_bits(1));
+            let err = (got - want).abs();
+            assert!(err <= bound, "2^{y}: {got:e} vs {want:e}");
+            worst = worst.max(err / bound);
+        }
+        assert!(worst > 0.05, "{worst}");
+        assert_eq!(exp2(0.0f32), 1.0);
+        assert_eq!(exp2(-3.0f32), 0.125);
+        assert_eq!(exp2(-149.0f32), f32::from_bits(1));
+        assert_eq!(exp2(-151.0f32), 0.0);
+        assert_eq!(exp2(128.0f32), f32::INFINITY);
+        assert!(exp2(f32::NAN).is_nan());
+    }
 
     /// The relative error against `f64` stays within the stated bound over
     /// a grid of lobe cosines (and a little above 1, where rounding puts

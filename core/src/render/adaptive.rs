@@ -282,18 +282,64 @@ impl Adaptive {
 /// With weights of 1, `σ` is the sample standard deviation. Where the
 /// film falls back to the box mean of `y` (`|Σ w| < n/2`), `R` and `σ` are
 /// that mean and the sample standard deviation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+///
+/// The sums are exact, like the film's: each sample's terms are taken in
+/// `f64` and truncated to fixed point (units of `2⁻⁴⁰`) in `i128`, so the
+/// statistics, and the decisions made from them, never depend on the
+/// order in which samples arrive or how partial sums are merged. As the
+/// film does, radiance channels and the weight are clamped to
+/// `±MAX_SAMPLE_VALUE` first; then no signed sum can overflow (below
+/// `2¹²⁰` after `2³²` samples) and the non-negative ones (`Σ w²`,
+/// `Σ w²y²`, `Σ y²`) saturate, which no order changes either.
+///
+/// ```
+/// use glam::Vec3;
+/// use strata::render::PilotStats;
+/// let samples = [(0.1f32, 0.25f32), (3.0, 1.0), (1e-7, -0.5), (7.0, 1.25)];
+/// let (mut forward, mut backward) = (PilotStats::ZERO, PilotStats::ZERO);
+/// for &(v, w) in &samples {
+///     forward.add(Vec3::splat(v), w, 2);
+/// }
+/// for &(v, w) in samples.iter().rev() {
+///     backward.add(Vec3::splat(v), w, 2);
+/// }
+/// assert_eq!(forward, backward);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PilotStats {
     n: u32,
     rays: u64,
-    /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y², and Σ y, Σ y² for the box mean.
-    w: f64,
-    wy: f64,
-    w2: f64,
-    w2y: f64,
-    w2y2: f64,
-    y: f64,
-    y2: f64,
+    /// Σ w, Σ w·y, Σ w², Σ w²·y, Σ w²·y², and Σ y, Σ y² for the box mean,
+    /// in units of `2⁻⁴⁰`.
+    w: i128,
+    wy: i128,
+    w2: i128,
+    w2y: i128,
+    w2y2: i128,
+    y: i128,
+    y2: i128,
+}
+
+/// Fixed-point scale of [`PilotStats`]' sums.
+const PILOT_SCALE: f64 = 1_099_511_627_776.0; // 2⁴⁰
+
+/// `t` in units of `2⁻⁴⁰`, truncated towards zero (saturating; `t` is
+/// never NaN). Most terms fit an `i64`, whose conversion is one
+/// instruction; the result is the same either way.
+#[inline]
+fn pilot_fixed(t: f64) -> i128 {
+    let v = t * PILOT_SCALE;
+    if libm::fabs(v) < 9.0e18 {
+        v as i64 as i128
+    } else {
+        v as i128
+    }
+}
+
+/// A sum back in `f64` (rounded to nearest).
+#[inline]
+fn pilot_float(s: i128) -> f64 {
+    s as f64 / PILOT_SCALE
 }
 
 impl PilotStats {
@@ -301,13 +347,13 @@ impl PilotStats {
     pub const ZERO: PilotStats = PilotStats {
         n: 0,
         rays: 0,
-        w: 0.0,
-        wy: 0.0,
-        w2: 0.0,
-        w2y: 0.0,
-        w2y2: 0.0,
-        y: 0.0,
-        y2: 0.0,
+        w: 0,
+        wy: 0,
+        w2: 0,
+        w2y: 0,
+        w2y2: 0,
+        y: 0,
+        y2: 0,
     };
 
     /// Adds a sample: radiance `l` with filter weight `w`, which traced
@@ -318,31 +364,35 @@ impl PilotStats {
         if !((l * w).is_finite() && w.is_finite()) {
             return;
         }
+        let max = super::film::MAX_SAMPLE_VALUE;
+        let l = l.clamp(Vec3::splat(-max), Vec3::splat(max));
         let y = 0.2126 * l.x as f64 + 0.7152 * l.y as f64 + 0.0722 * l.z as f64;
-        let w = w as f64;
+        let w = w.clamp(-max, max) as f64;
         self.n = self.n.saturating_add(1);
         self.rays = self.rays.saturating_add(rays as u64);
-        self.w += w;
-        self.wy += w * y;
-        self.w2 += w * w;
-        self.w2y += w * w * y;
-        self.w2y2 += w * w * y * y;
-        self.y += y;
-        self.y2 += y * y;
+        // Signed sums cannot overflow (see the type); the others saturate.
+        self.w += pilot_fixed(w);
+        self.wy += pilot_fixed(w * y);
+        self.w2 = self.w2.saturating_add(pilot_fixed(w * w));
+        self.w2y += pilot_fixed(w * w * y);
+        self.w2y2 = self.w2y2.saturating_add(pilot_fixed(w * w * y * y));
+        self.y += pilot_fixed(y);
+        self.y2 = self.y2.saturating_add(pilot_fixed(y * y));
     }
 
-    /// Adds another's sums: the statistics of both sets of samples.
+    /// Adds another's sums: the statistics of both sets of samples, the
+    /// same whatever the order or grouping of the merges.
     #[inline]
     pub fn merge(&mut self, o: &PilotStats) {
         self.n = self.n.saturating_add(o.n);
         self.rays = self.rays.saturating_add(o.rays);
         self.w += o.w;
         self.wy += o.wy;
-        self.w2 += o.w2;
+        self.w2 = self.w2.saturating_add(o.w2);
         self.w2y += o.w2y;
-        self.w2y2 += o.w2y2;
+        self.w2y2 = self.w2y2.saturating_add(o.w2y2);
         self.y += o.y;
-        self.y2 += o.y2;
+        self.y2 = self.y2.saturating_add(o.y2);
     }
 
     /// Finite samples added.
@@ -361,17 +411,21 @@ impl PilotStats {
             return None;
         }
         let n = self.n as f64;
-        Some(if libm::fabs(self.w) >= super::film::FALLBACK_SHARE * n {
-            let r = self.wy / self.w;
-            let s = (self.w2y2 - 2.0 * r * self.w2y + r * r * self.w2).max(0.0);
-            (
-                r,
-                n * crate::float::sqrt(s / (n - 1.0)) / libm::fabs(self.w),
-            )
+        let w = pilot_float(self.w);
+        Some(if libm::fabs(w) >= super::film::FALLBACK_SHARE * n {
+            let r = pilot_float(self.wy) / w;
+            let (w2, w2y, w2y2) = (
+                pilot_float(self.w2),
+                pilot_float(self.w2y),
+                pilot_float(self.w2y2),
+            );
+            let s = (w2y2 - 2.0 * r * w2y + r * r * w2).max(0.0);
+            (r, n * crate::float::sqrt(s / (n - 1.0)) / libm::fabs(w))
         } else {
             // The box mean of y, as the film's fallback.
-            let m = self.y / n;
-            let var = ((self.y2 - m * self.y) / (n - 1.0)).max(0.0);
+            let (y, y2) = (pilot_float(self.y), pilot_float(self.y2));
+            let m = y / n;
+            let var = ((y2 - m * y) / (n - 1.0)).max(0.0);
             (m, crate::float::sqrt(var))
         })
     }
@@ -590,6 +644,60 @@ mod tests {
             s.add(Vec3::splat(v), 1.0, rays);
         }
         s
+    }
+
+    /// Any order and any grouping of merges give the same statistics; the
+    /// samples are chosen so that plain `f64` sums do depend on the order
+    /// (the control), so the test would catch a return to them.
+    #[test]
+    fn pilot_sums_do_not_depend_on_order() {
+        use rand_core::Rng;
+        let mut rng = crate::rng::Pcg32::new(7, crate::rng::STREAM);
+        let mut f = move || crate::rng::next_f32(&mut rng);
+        let samples: std::vec::Vec<(Vec3, f32, u32)> = (0..257)
+            .map(|k| {
+                let scale = [1e-6f32, 1.0, 300.0, 7e4][k % 4];
+                let l = Vec3::new(f(), f(), f()) * scale;
+                let w = f() * 1.4 - 0.2;
+                (l, w, 1 + k as u32 % 5)
+            })
+            .collect();
+        let add_all = |order: &[usize]| {
+            let mut s = PilotStats::ZERO;
+            for &i in order {
+                let (l, w, r) = samples[i];
+                s.add(l, w, r);
+            }
+            s
+        };
+        let forward: std::vec::Vec<usize> = (0..samples.len()).collect();
+        let want = add_all(&forward);
+        let mut differs = false;
+        for round in 0..20u64 {
+            let mut order = forward.clone();
+            let mut r = crate::rng::Pcg32::new(round, crate::rng::STREAM);
+            for i in (1..order.len()).rev() {
+                order.swap(i, (r.next_u32() as usize) % (i + 1));
+            }
+            assert_eq!(add_all(&order), want);
+            // Merged from three parts, last first.
+            let (a, b) = (order.len() / 3, 2 * order.len() / 3);
+            let mut merged = add_all(&order[b..]);
+            merged.merge(&add_all(&order[..a]));
+            merged.merge(&add_all(&order[a..b]));
+            assert_eq!(merged, want);
+            // The control: f64 sums of w²y² in these orders.
+            let plain = |o: &[usize]| {
+                o.iter().fold(0.0f64, |acc, &i| {
+                    let (l, w, _) = samples[i];
+                    let y = 0.2126 * l.x as f64 + 0.7152 * l.y as f64 + 0.0722 * l.z as f64;
+                    acc + (w as f64 * w as f64 * y * y)
+                })
+            };
+            differs |= plain(&order) != plain(&forward);
+        }
+        assert!(differs, "the samples do not exercise rounding order");
+        assert_eq!(want.samples(), 257);
     }
 
     #[test]

@@ -3,6 +3,9 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::lanes::{Lanes, V3};
+use crate::trig;
+
 /// An image texture over borrowed texels: `width × height` linear RGB
 /// values, row 0 at the top. Lookups are nearest-texel, with `(u, v)`
 /// clamped to `[0, 1]` and `v` flipped as in *Ray Tracing in One Weekend*
@@ -238,8 +241,16 @@ impl Texture<'_> {
 #[inline]
 #[must_use]
 pub fn sphere_uv(n: Vec3) -> Vec2 {
+    let (u, v) = sphere_uv_lanes(V3::<f32>::splat(n));
+    Vec2::new(u, v)
+}
+
+/// [`sphere_uv`] over lanes, with the portable `acos` and `atan2` of
+/// `crate::trig` (the same bits for one lane and for eight).
+#[inline]
+pub(crate) fn sphere_uv_lanes<L: Lanes>(n: V3<L>) -> (L, L) {
     use core::f32::consts::{FRAC_1_PI, PI};
-    let theta = libm::acosf((-n.y).clamp(-1.0, 1.0));
-    let phi = libm::atan2f(-n.z, n.x) + PI;
-    Vec2::new(phi * (0.5 * FRAC_1_PI), theta * FRAC_1_PI)
+    let theta = trig::acos((-n.y).clamp_to(-1.0, 1.0));
+    let phi = trig::atan2(-n.z, n.x) + L::splat(PI);
+    (phi * L::splat(0.5 * FRAC_1_PI), theta * L::splat(FRAC_1_PI))
 }

@@ -41,7 +41,7 @@ impl Kind {
             // approximation that exceeds albedo 1 at low exponents).
             Kind::BlinnNormalized => {
                 let a = exponent;
-                Some((a + 2.0) * (a + 4.0) / (8.0 * PI * (libm::exp2f(-0.5 * a) + a)))
+                Some((a + 2.0) * (a + 4.0) / (8.0 * PI * (crate::pow::exp2(-0.5 * a) + a)))
             }
         }
     }
