@@ -72,19 +72,6 @@ pub(crate) fn normalize(v: Vec3) -> Vec3 {
     v * (1.0 / length(v))
 }
 
-/// `v / |v|`, or zero where `1 / |v|` is not finite and positive (a zero,
-/// tiny, huge or non-finite `v`), with the bits of glam's
-/// `Vec3::normalize_or_zero`.
-#[inline(always)]
-pub(crate) fn normalize_or_zero(v: Vec3) -> Vec3 {
-    let rcp = 1.0 / length(v);
-    if rcp.is_finite() && rcp > 0.0 {
-        v * rcp
-    } else {
-        Vec3::ZERO
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,11 +187,16 @@ mod tests {
                     "{v}"
                 );
             }
-            assert_eq!(
-                bits(normalize_or_zero(v)),
-                bits(v.normalize_or_zero()),
-                "{v}"
-            );
+            // The lane forms, one lane and eight, against glam.
+            let one = Vec3::from(crate::lanes::V3::<f32>::from(v).normalize_or_zero());
+            assert_eq!(bits(one), bits(v.normalize_or_zero()), "{v}");
+            let eight = crate::lanes::V3::<crate::lanes::f32x8>::splat(v).normalize_or_zero();
+            assert_eq!(bits(eight.lane(k % 8)), bits(one), "{v}");
+            let n8 = crate::lanes::V3::<crate::lanes::f32x8>::splat(v).normalize();
+            let n1 = normalize(v);
+            for (x, y) in n8.lane(3).to_array().into_iter().zip(n1.to_array()) {
+                assert!(x.to_bits() == y.to_bits() || x.is_nan() && y.is_nan(), "{v}");
+            }
         }
     }
 }

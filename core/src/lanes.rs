@@ -92,6 +92,18 @@ pub(crate) trait Lanes:
     /// `if mask { a } else { b }` per integer lane.
     fn select_int(mask: Self::Mask, a: Self::Int, b: Self::Int) -> Self::Int;
 
+    /// Lanes: 1 or 8.
+    const WIDTH: usize;
+    /// Lane `k`'s value.
+    fn lane(self, k: usize) -> f32;
+    /// Lanes from a value per lane: what a lane form uses for what stays
+    /// per lane (a texel fetch, a sphere's parameters).
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    /// Whether lane `k` of the mask is set.
+    fn mask_lane(mask: Self::Mask, k: usize) -> bool;
+    /// `b` in every lane of a mask.
+    fn mask_splat(b: bool) -> Self::Mask;
+
     /// `|x|`, by clearing the sign bit (so `|−0| = 0` and NaNs lose their
     /// sign).
     #[inline(always)]
@@ -124,6 +136,23 @@ pub(crate) trait Lanes:
 impl Lanes for f32 {
     type Mask = bool;
     type Int = i32;
+    const WIDTH: usize = 1;
+    #[inline(always)]
+    fn lane(self, _: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn mask_lane(mask: bool, _: usize) -> bool {
+        mask
+    }
+    #[inline(always)]
+    fn mask_splat(b: bool) -> bool {
+        b
+    }
     #[inline(always)]
     fn splat(x: f32) -> Self {
         x
@@ -209,6 +238,23 @@ impl Lanes for f32 {
 impl Lanes for f32x8 {
     type Mask = f32x8;
     type Int = i32x8;
+    const WIDTH: usize = 8;
+    #[inline(always)]
+    fn lane(self, k: usize) -> f32 {
+        self.as_array()[k]
+    }
+    #[inline(always)]
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+        f32x8::new(core::array::from_fn(f))
+    }
+    #[inline(always)]
+    fn mask_lane(mask: f32x8, k: usize) -> bool {
+        lanes_bitmask(mask) >> k & 1 == 1
+    }
+    #[inline(always)]
+    fn mask_splat(b: bool) -> f32x8 {
+        mask_from_bools([b; 8])
+    }
     #[inline(always)]
     fn splat(x: f32) -> Self {
         f32x8::splat(x)
@@ -319,6 +365,93 @@ impl<L: Lanes> V3<L> {
     #[inline(always)]
     pub(crate) fn dot(self, o: Self) -> L {
         self.x * o.x + self.y * o.y + self.z * o.z
+    }
+}
+
+impl<L: Lanes> V3<L> {
+    /// Lane `k` as a vector.
+    #[inline(always)]
+    pub(crate) fn lane(self, k: usize) -> Vec3 {
+        Vec3::new(self.x.lane(k), self.y.lane(k), self.z.lane(k))
+    }
+
+    /// A vector per lane.
+    #[inline(always)]
+    pub(crate) fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
+        if L::WIDTH == 1 {
+            // One lane: one call, not three.
+            let v = f(0);
+            return Self::splat(v);
+        }
+        Self::new(L::from_fn(|k| f(k).x), L::from_fn(|k| f(k).y), L::from_fn(|k| f(k).z))
+    }
+
+    /// `if mask { a } else { b }` per lane.
+    #[inline(always)]
+    pub(crate) fn select(mask: L::Mask, a: Self, b: Self) -> Self {
+        Self::new(
+            L::select(mask, a.x, b.x),
+            L::select(mask, a.y, b.y),
+            L::select(mask, a.z, b.z),
+        )
+    }
+
+    /// Component by component.
+    #[inline(always)]
+    pub(crate) fn mul_v(self, o: Self) -> Self {
+        Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+
+    /// `|v|`, with the bits of glam's `Vec3::length`.
+    #[inline(always)]
+    pub(crate) fn length(self) -> L {
+        self.dot(self).sqrt()
+    }
+
+    /// `v · (1 / |v|)`, with the bits of glam's `Vec3::normalize`
+    /// (non-finite for a zero or non-finite `v`).
+    #[inline(always)]
+    pub(crate) fn normalize(self) -> Self {
+        self * (L::splat(1.0) / self.length())
+    }
+
+    /// [`V3::normalize`], or zero where `1 / |v|` is not finite and
+    /// positive, with the bits of glam's `Vec3::normalize_or_zero`.
+    #[inline(always)]
+    pub(crate) fn normalize_or_zero(self) -> Self {
+        let rcp = L::splat(1.0) / self.length();
+        let ok = L::and(rcp.gt(L::splat(0.0)), rcp.lt(L::splat(f32::INFINITY)));
+        Self::select(ok, self * rcp, Self::splat(Vec3::ZERO))
+    }
+}
+
+impl<L: Lanes> Add for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl<L: Lanes> Neg for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl From<Vec3> for V3<f32> {
+    #[inline(always)]
+    fn from(v: Vec3) -> Self {
+        Self::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<V3<f32>> for Vec3 {
+    #[inline(always)]
+    fn from(v: V3<f32>) -> Self {
+        Vec3::new(v.x, v.y, v.z)
     }
 }
 

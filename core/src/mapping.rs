@@ -35,6 +35,7 @@ use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
 use glam::{Vec2, Vec3};
 
+use crate::lanes::{Lanes, V3};
 use crate::rng::ONE_MINUS_EPSILON;
 use crate::trig::{sin_cos_pi_quarter, sin_cos_turn};
 
@@ -53,9 +54,9 @@ const RIM2: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// `sqrt(max(x, 0))`: rounding can push `1 - z²` a hair below zero. Unlike
 /// `f32::max`, it keeps a NaN a NaN.
-#[inline]
-fn safe_sqrt(x: f32) -> f32 {
-    crate::float::sqrtf(if x < 0.0 { 0.0 } else { x })
+#[inline(always)]
+fn safe_sqrt<L: Lanes>(x: L) -> L {
+    L::select(x.lt(L::splat(0.0)), L::splat(0.0), x).sqrt()
 }
 
 /// The azimuth of `(x, y)` as a fraction of a turn, in `[0, 1)`.
@@ -69,11 +70,11 @@ fn azimuth_fraction(x: f32, y: f32) -> f32 {
 }
 
 /// A point at azimuth `2π · u` and height `z` on the unit sphere.
-#[inline]
-fn spherical(z: f32, u_phi: f32) -> Vec3 {
-    let r = safe_sqrt(1.0 - z * z);
+#[inline(always)]
+fn spherical<L: Lanes>(z: L, u_phi: L) -> V3<L> {
+    let r = safe_sqrt(L::splat(1.0) - z * z);
     let (sin, cos) = sin_cos_turn(u_phi);
-    Vec3::new(r * cos, r * sin, z)
+    V3::new(r * cos, r * sin, z)
 }
 
 // ---------------------------------------------------------------- sphere
@@ -93,7 +94,13 @@ fn spherical(z: f32, u_phi: f32) -> Vec3 {
 #[inline]
 #[must_use]
 pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
-    spherical(1.0 - 2.0 * u.x, u.y)
+    uniform_sphere(u.x, u.y).into()
+}
+
+/// [`sample_uniform_sphere`] over lanes.
+#[inline(always)]
+pub(crate) fn uniform_sphere<L: Lanes>(u0: L, u1: L) -> V3<L> {
+    spherical(L::splat(1.0) - L::splat(2.0) * u0, u1)
 }
 
 /// The density of [`sample_uniform_sphere`]: `1 / (4π)` per steradian
@@ -185,7 +192,7 @@ pub fn invert_uniform_ball(p: Vec3) -> Vec3 {
 #[inline]
 #[must_use]
 pub fn sample_uniform_hemisphere(u: Vec2) -> Vec3 {
-    spherical(u.x, u.y)
+    spherical(u.x, u.y).into()
 }
 
 /// The density of [`sample_uniform_hemisphere`]: `1 / (2π)` per steradian
@@ -233,17 +240,38 @@ pub fn invert_uniform_hemisphere(w: Vec3) -> Vec2 {
 #[inline]
 #[must_use]
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let (_, d) = concentric(u);
+    cosine_hemisphere(u.x, u.y).into()
+}
+
+/// [`sample_cosine_hemisphere`] over lanes.
+#[inline(always)]
+pub(crate) fn cosine_hemisphere<L: Lanes>(u0: L, u1: L) -> V3<L> {
+    let k1 = L::splat(1.0);
+    let (_, x, y) = concentric(u0, u1);
     // z = √((1 − r)(1 + r)) with 1 − r taken exactly from u, not from the
     // rounded point or radius: the radius is |2uₖ − 1| for the wider
     // coordinate k, and 1 − |2uₖ − 1| = 2 min(uₖ, 1 − uₖ), exact (1 − uₖ
     // by Sterbenz where it is the smaller), while 2uₖ − 1 itself rounds
     // for uₖ < ¼, which is the rim, where z is all in 1 − r.
-    let wide = (2.0 * u.x - 1.0).abs() > (2.0 * u.y - 1.0).abs();
-    let k = if wide { u.x } else { u.y };
-    let one_minus_r = 2.0 * k.min(1.0 - k);
-    let z = safe_sqrt(one_minus_r * (2.0 - one_minus_r));
-    Vec3::new(d.x, d.y, z)
+    let two = L::splat(2.0);
+    let wide = (two * u0 - k1).abs().gt((two * u1 - k1).abs());
+    let k = L::select(wide, u0, u1);
+    let one_minus_r = two * L::select(k.lt(k1 - k), k, k1 - k);
+    let z = safe_sqrt(one_minus_r * (two - one_minus_r));
+    V3::new(x, y, z)
+}
+
+/// [`pdf_cosine_hemisphere`] over lanes.
+#[inline(always)]
+pub(crate) fn cosine_hemisphere_pdf<L: Lanes>(w: V3<L>) -> L {
+    let ok = L::and(w.z.ge(L::splat(0.0)), not_nan(w));
+    L::select(ok, w.z * L::splat(FRAC_1_PI), L::splat(0.0))
+}
+
+/// The lanes where no component of `w` is NaN.
+#[inline(always)]
+fn not_nan<L: Lanes>(w: V3<L>) -> L::Mask {
+    L::and(L::and(w.x.eq(w.x), w.y.eq(w.y)), w.z.eq(w.z))
 }
 
 /// The density of [`sample_cosine_hemisphere`]: `cos θ / π = w.z / π` per
@@ -257,11 +285,7 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
 #[inline]
 #[must_use]
 pub fn pdf_cosine_hemisphere(w: Vec3) -> f32 {
-    if w.z >= 0.0 && !w.is_nan() {
-        w.z * FRAC_1_PI
-    } else {
-        0.0
-    }
+    cosine_hemisphere_pdf(V3::from(w))
 }
 
 /// The inverse of [`sample_cosine_hemisphere`]: the concentric-disk inverse
@@ -303,28 +327,35 @@ pub fn invert_cosine_hemisphere(w: Vec3) -> Vec2 {
 #[inline]
 #[must_use]
 pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
-    concentric(u).1
+    let (_, x, y) = concentric(u.x, u.y);
+    Vec2::new(x, y)
 }
 
 /// The concentric map's point and its radius `|r|` (taken as it is, not
 /// from the rounded point).
+/// The concentric map of `(u0, u1)`: `(r, x, y)`, the radius and the
+/// point.
 #[inline(always)]
-fn concentric(u: Vec2) -> (f32, Vec2) {
-    let a = 2.0 * u.x - 1.0;
-    let b = 2.0 * u.y - 1.0;
-    if a == 0.0 && b == 0.0 {
-        return (0.0, Vec2::ZERO);
-    }
+pub(crate) fn concentric<L: Lanes>(u0: L, u1: L) -> (L, L, L) {
+    let (k1, k2, zero) = (L::splat(1.0), L::splat(2.0), L::splat(0.0));
+    let a = k2 * u0 - k1;
+    let b = k2 * u1 - k1;
     // Which of the four triangles of the square holds (a, b) decides
     // whether a or b is the radius: θ = π/4 · b/a, or π/2 − π/4 · a/b,
     // whose sine and cosine are the cosine and sine of π/4 · a/b. Both
     // cases run the same operations on swapped inputs, chosen by selects:
     // a branch on a coin flip is mispredicted half the time.
-    let wide = a.abs() > b.abs();
-    let (r, q) = if wide { (a, b) } else { (b, a) };
-    let (sin, cos) = sin_cos_pi_quarter(0.25 * (q / r));
-    let (x, y) = if wide { (cos, sin) } else { (sin, cos) };
-    (r.abs(), Vec2::new(r * x, r * y))
+    let wide = a.abs().gt(b.abs());
+    let (r, q) = (L::select(wide, a, b), L::select(wide, b, a));
+    let (sin, cos) = sin_cos_pi_quarter(L::splat(0.25) * (q / r));
+    let (x, y) = (L::select(wide, cos, sin), L::select(wide, sin, cos));
+    // The centre (0/0 above) maps to itself.
+    let centre = L::and(a.eq(zero), b.eq(zero));
+    (
+        L::select(centre, zero, r.abs()),
+        L::select(centre, zero, r * x),
+        L::select(centre, zero, r * y),
+    )
 }
 
 /// The density of [`sample_concentric_disk`]: `1 / π` per unit area inside
@@ -479,11 +510,10 @@ impl Cone {
     #[inline]
     #[must_use]
     pub fn from_sin2(sin2_theta_max: f32) -> Self {
-        let s2 = sin2_theta_max.clamp(0.0, 1.0);
-        let c = safe_sqrt(1.0 - s2);
+        let c = ConeLanes::from_sin2(sin2_theta_max);
         Self {
-            cos_theta_max: c,
-            one_minus_cos: s2 / (1.0 + c),
+            cos_theta_max: c.cos_theta_max,
+            one_minus_cos: c.one_minus_cos,
         }
     }
 
@@ -494,11 +524,11 @@ impl Cone {
     #[inline]
     #[must_use]
     pub fn subtended_by_sphere(distance: f32, radius: f32) -> Option<Self> {
-        if !(radius >= 0.0 && distance > radius && distance.is_finite()) {
-            return None;
-        }
-        let ratio = radius / distance;
-        Some(Self::from_sin2(ratio * ratio))
+        let (c, ok) = ConeLanes::subtended_by_sphere(distance, radius);
+        ok.then_some(Self {
+            cos_theta_max: c.cos_theta_max,
+            one_minus_cos: c.one_minus_cos,
+        })
     }
 
     /// `cos θmax`.
@@ -521,10 +551,75 @@ impl Cone {
     pub fn solid_angle(&self) -> f32 {
         TAU * self.one_minus_cos
     }
+
+    /// The cone as one lane.
+    #[inline(always)]
+    pub(crate) fn lanes(self) -> ConeLanes<f32> {
+        ConeLanes {
+            cos_theta_max: self.cos_theta_max,
+            one_minus_cos: self.one_minus_cos,
+        }
+    }
 }
 
 /// `1 − z` of a unit direction without cancellation near the pole:
 /// `(x² + y²) / (1 + z)` where `z > 0`.
+/// [`Cone`] over lanes: one cone per lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ConeLanes<L> {
+    pub(crate) cos_theta_max: L,
+    pub(crate) one_minus_cos: L,
+}
+
+impl<L: Lanes> ConeLanes<L> {
+    /// [`Cone::from_sin2`] per lane.
+    #[inline(always)]
+    pub(crate) fn from_sin2(sin2_theta_max: L) -> Self {
+        let s2 = sin2_theta_max.clamp_to(0.0, 1.0);
+        let c = safe_sqrt(L::splat(1.0) - s2);
+        Self {
+            cos_theta_max: c,
+            one_minus_cos: s2 / (L::splat(1.0) + c),
+        }
+    }
+
+    /// [`Cone::subtended_by_sphere`] per lane: the cone, meaningful where
+    /// the mask is set (`radius ≥ 0`, `distance > radius`, finite
+    /// `distance`).
+    #[inline(always)]
+    pub(crate) fn subtended_by_sphere(distance: L, radius: L) -> (Self, L::Mask) {
+        let ok = L::and(
+            L::and(radius.ge(L::splat(0.0)), distance.gt(radius)),
+            distance.lt(L::splat(f32::INFINITY)),
+        );
+        let ratio = radius / distance;
+        (Self::from_sin2(ratio * ratio), ok)
+    }
+}
+
+/// [`sample_uniform_cone`] over lanes.
+#[inline(always)]
+pub(crate) fn uniform_cone<L: Lanes>(u0: L, u1: L, cone: &ConeLanes<L>) -> V3<L> {
+    let omz = u0 * cone.one_minus_cos;
+    let sin_theta = safe_sqrt(omz * (L::splat(2.0) - omz));
+    let (sin, cos) = sin_cos_turn(u1);
+    V3::new(sin_theta * cos, sin_theta * sin, L::splat(1.0) - omz)
+}
+
+/// [`pdf_uniform_cone`] over lanes.
+#[inline(always)]
+pub(crate) fn uniform_cone_pdf<L: Lanes>(w: V3<L>, cone: &ConeLanes<L>) -> L {
+    const SLACK: f32 = 1.0 + 1.0 / 1_048_576.0;
+    let k1 = L::splat(1.0);
+    let one_minus_z = L::select(
+        w.z.gt(L::splat(0.0)),
+        (w.x * w.x + w.y * w.y) / (k1 + w.z),
+        k1 - w.z,
+    );
+    let inside = L::and(one_minus_z.le(cone.one_minus_cos * L::splat(SLACK)), not_nan(w));
+    L::select(inside, L::splat(INV_2PI) / cone.one_minus_cos, L::splat(0.0))
+}
+
 #[inline]
 fn one_minus_z(w: Vec3) -> f32 {
     if w.z > 0.0 {
@@ -554,10 +649,7 @@ fn one_minus_z(w: Vec3) -> f32 {
 #[inline]
 #[must_use]
 pub fn sample_uniform_cone(u: Vec2, cone: Cone) -> Vec3 {
-    let omz = u.x * cone.one_minus_cos;
-    let sin_theta = safe_sqrt(omz * (2.0 - omz));
-    let (sin, cos) = sin_cos_turn(u.y);
-    Vec3::new(sin_theta * cos, sin_theta * sin, 1.0 - omz)
+    uniform_cone(u.x, u.y, &cone.lanes()).into()
 }
 
 /// The density of [`sample_uniform_cone`]: `1 / (2π (1 − cos θmax))` per
@@ -569,12 +661,7 @@ pub fn sample_uniform_cone(u: Vec2, cone: Cone) -> Vec3 {
 #[inline]
 #[must_use]
 pub fn pdf_uniform_cone(w: Vec3, cone: Cone) -> f32 {
-    const SLACK: f32 = 1.0 + 1.0 / 1_048_576.0;
-    if one_minus_z(w) <= cone.one_minus_cos * SLACK && !w.is_nan() {
-        INV_2PI / cone.one_minus_cos
-    } else {
-        0.0
-    }
+    uniform_cone_pdf(V3::from(w), &cone.lanes())
 }
 
 /// The inverse of [`sample_uniform_cone`]; for a zero-width cone every

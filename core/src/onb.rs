@@ -23,6 +23,8 @@
 
 use glam::Vec3;
 
+use crate::lanes::{Lanes, V3};
+
 /// A right- or left-handed orthonormal basis `(u, v, w)` with `w` the
 /// normal. `to_world` maps local `(x, y, z)` to `x u + y v + z w`.
 ///
@@ -76,14 +78,11 @@ impl Onb {
     #[inline]
     #[must_use]
     pub fn from_normal(n: impl Into<Vec3>) -> Self {
-        let n: Vec3 = n.into();
-        let sign = 1.0f32.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
+        let b = OnbLanes::from_normal(V3::<f32>::from(n.into()));
         Self {
-            u: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-            v: Vec3::new(b, sign + n.y * n.y * a, -n.y),
-            w: n,
+            u: b.u.into(),
+            v: b.v.into(),
+            w: b.w.into(),
         }
     }
 
@@ -144,7 +143,12 @@ impl Onb {
     #[inline]
     #[must_use]
     pub fn to_world(&self, d: Vec3) -> Vec3 {
-        self.u * d.x + self.v * d.y + self.w * d.z
+        let b = OnbLanes::<f32> {
+            u: self.u.into(),
+            v: self.v.into(),
+            w: self.w.into(),
+        };
+        b.to_world(d.into()).into()
     }
 
     /// The local coordinates of world direction `d`: `(d·u, d·v, d·w)`. The
@@ -161,6 +165,36 @@ impl Onb {
     #[must_use]
     pub fn to_local(&self, d: Vec3) -> Vec3 {
         Vec3::new(d.dot(self.u), d.dot(self.v), d.dot(self.w))
+    }
+}
+
+/// [`Onb`] over lanes: one basis per lane, by the same operations.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct OnbLanes<L> {
+    pub(crate) u: V3<L>,
+    pub(crate) v: V3<L>,
+    pub(crate) w: V3<L>,
+}
+
+impl<L: Lanes> OnbLanes<L> {
+    /// [`Onb::from_normal`] per lane.
+    #[inline(always)]
+    pub(crate) fn from_normal(n: V3<L>) -> Self {
+        let k1 = L::splat(1.0);
+        let sign = k1.copysign(n.z);
+        let a = -k1 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Self {
+            u: V3::new(k1 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            v: V3::new(b, sign + n.y * n.y * a, -n.y),
+            w: n,
+        }
+    }
+
+    /// [`Onb::to_world`] per lane.
+    #[inline(always)]
+    pub(crate) fn to_world(&self, d: V3<L>) -> V3<L> {
+        self.u * d.x + self.v * d.y + self.w * d.z
     }
 }
 

@@ -34,8 +34,8 @@ fn log2_positive<L: Lanes>(x: L) -> L {
     // s⁹ leaves less than 10⁻⁹. m − 1 is exact (Sterbenz).
     let s = (m - k(1.0)) / (m + k(1.0));
     let s2 = s * s;
-    let series =
-        k(1.0) + s2 * (k(1.0 / 3.0) + s2 * (k(1.0 / 5.0) + s2 * (k(1.0 / 7.0) + s2 * k(1.0 / 9.0))));
+    let series = k(1.0)
+        + s2 * (k(1.0 / 3.0) + s2 * (k(1.0 / 5.0) + s2 * (k(1.0 / 7.0) + s2 * k(1.0 / 9.0))));
     let ln_m = k(2.0) * s * series;
     L::from_int(e) + ln_m * k(LOG2_E)
 }
@@ -69,7 +69,11 @@ pub(crate) fn exp2<L: Lanes>(y: L) -> L {
     let high = L::int_lt(int(127), n);
     let low = L::int_lt(n, int(-126));
     let n1 = L::select_int(high, n - int(1), L::select_int(low, n + int(64), n));
-    let second = L::select(high, k(2.0), L::select(low, k(1.0 / 18_446_744_073_709_551_616.0), k(1.0)));
+    let second = L::select(
+        high,
+        k(2.0),
+        L::select(low, k(1.0 / 18_446_744_073_709_551_616.0), k(1.0)),
+    );
     let r = p * L::from_bits((n1 + int(127)) << 23) * second;
     let r = L::select(y.lt(k(-150.0)), k(0.0), r);
     L::select(y.ge(k(128.0)), k(f32::INFINITY), r)

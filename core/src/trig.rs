@@ -101,7 +101,11 @@ pub(crate) fn acos<L: Lanes>(x: L) -> L {
     let s = ((k(1.0) - a) * k(0.5)).sqrt();
     let far = k(2.0) * asin_small(L::select(near, k(0.0), s));
     let far = L::select(x.sign_bit(), k(PI) - far, far);
-    L::select(near, k(FRAC_PI_2) - asin_small(L::select(near, x, k(0.0))), far)
+    L::select(
+        near,
+        k(FRAC_PI_2) - asin_small(L::select(near, x, k(0.0))),
+        far,
+    )
 }
 
 /// `atan2(y, x)`, the angle of `(x, y)` in `[−π, π]` with C's signs of
@@ -124,8 +128,8 @@ pub(crate) fn atan2<L: Lanes>(y: L, x: L) -> L {
     let reduce = t.gt(k(0.414_213_57));
     let t = L::select(reduce, (t - k(1.0)) / (t + k(1.0)), t);
     let z = t * t;
-    let p = ((k(8.053_744_5e-2) * z - k(1.387_768_6e-1)) * z + k(1.997_771_1e-1)) * z
-        - k(3.333_295e-1);
+    let p =
+        ((k(8.053_744_5e-2) * z - k(1.387_768_6e-1)) * z + k(1.997_771_1e-1)) * z - k(3.333_295e-1);
     let r = t + t * z * p;
     let r = L::select(reduce, k(FRAC_PI_4) + r, r);
     let r = L::select(steep, k(FRAC_PI_2) - r, r);
@@ -168,7 +172,12 @@ mod tests {
         let mut worst = 0.0f64;
         for x in xs {
             let err = (f64::from(acos(x)) - f64::from(x).acos()).abs();
-            assert!(err <= 3e-7, "acos({x:e}): {} vs {}", acos(x), f64::from(x).acos());
+            assert!(
+                err <= 3e-7,
+                "acos({x:e}): {} vs {}",
+                acos(x),
+                f64::from(x).acos()
+            );
             worst = worst.max(err);
         }
         assert!(worst > 5e-8, "{worst}");
@@ -188,7 +197,11 @@ mod tests {
                 let (y, x) = ((a.sin() * r) as f32, (a.cos() * r) as f32);
                 let want = f64::from(y).atan2(f64::from(x));
                 let err = (f64::from(atan2(y, x)) - want).abs();
-                assert!(err <= 3e-7, "atan2({y:e}, {x:e}) = {} vs {want}", atan2(y, x));
+                assert!(
+                    err <= 3e-7,
+                    "atan2({y:e}, {x:e}) = {} vs {want}",
+                    atan2(y, x)
+                );
                 worst = worst.max(err);
             }
         }
@@ -210,7 +223,11 @@ mod tests {
         for (y, x, want) in cases {
             let got = atan2(y, x);
             assert_eq!(got, want as f32, "atan2({y}, {x})");
-            assert_eq!(got.is_sign_negative(), want.is_sign_negative(), "atan2({y}, {x})");
+            assert_eq!(
+                got.is_sign_negative(),
+                want.is_sign_negative(),
+                "atan2({y}, {x})"
+            );
         }
         assert!(atan2(f32::NAN, 1.0).is_nan() && atan2(1.0, f32::NAN).is_nan());
     }

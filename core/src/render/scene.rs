@@ -6,7 +6,7 @@ use glam::Vec3;
 use super::material::{Material, MaterialError};
 use crate::trace::{
     Bvh, BvhError, BvhNode8, BvhStack, BvhStorage, Hit, HitPacket8, Ray, RayPacket8, Sphere,
-    SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, bvh_storage_for, chunks_for,
+    SphereChunk8, SphereSet, SphereSetError, any_hit_1x8, any_hit_x8, bvh_storage_for, chunks_for,
     closest_hit_1x8, closest_hit_x8,
 };
 
@@ -404,6 +404,53 @@ impl<'a> Scene<'a> {
         }
     }
 
+    /// Which rays of a packet hit any sphere (shadow rays, each within its
+    /// own `[t_min, t_max]`): bit `k` for active lane `k`, the same as
+    /// [`Scene::any_hit`] on each lane's ray, through the BVH if attached
+    /// (one ray at a time: shadow rays of eight paths rarely share nodes),
+    /// else eight spheres a step for all eight rays. In a loop, prefer
+    /// [`Scene::any_hit_x8_with`] and one [`BvhStack`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use strata::render::{Background, Material, Scene, SceneStorage, Texture};
+    /// use strata::trace::{Ray, RayPacket8, Sphere, SphereChunk8};
+    /// let spheres = [Sphere::new(Vec3::new(0.0, 2.0, 0.0), 0.5)];
+    /// let materials = [Material::Lambertian { albedo: Texture::Solid(Vec3::ONE) }];
+    /// let (mut chunks, mut lights) = ([SphereChunk8::EMPTY; 1], [0u32; 1]);
+    /// let storage = SceneStorage {
+    ///     chunks: &mut chunks,
+    ///     lights: &mut lights,
+    ///     bvh_nodes: &mut [],
+    ///     bvh_lanes: &mut [],
+    ///     bvh_ids: &mut [],
+    /// };
+    /// let scene = Scene::build(&spheres, &materials, &[0], Background::Sky, storage).unwrap();
+    /// let up = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 5.0);
+    /// let short = Ray::new(Vec3::ZERO, Vec3::Y).with_range(1e-4, 1.0);
+    /// let side = Ray::new(Vec3::ZERO, Vec3::X).with_range(1e-4, 5.0);
+    /// let packet = RayPacket8::from_rays(&[up, short, side]);
+    /// assert_eq!(scene.any_hit_x8(&packet), 0b001);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn any_hit_x8(&self, packet: &RayPacket8) -> u32 {
+        match &self.bvh {
+            Some(b) => b.any_hit_x8(packet),
+            None => any_hit_x8(&self.set, packet),
+        }
+    }
+
+    /// [`Scene::any_hit_x8`] on the caller's reusable traversal `stack`.
+    #[inline]
+    #[must_use]
+    pub fn any_hit_x8_with(&self, packet: &RayPacket8, stack: &mut BvhStack) -> u32 {
+        match &self.bvh {
+            Some(b) => b.any_hit_x8_with(packet, stack),
+            None => any_hit_x8(&self.set, packet),
+        }
+    }
+
     /// The closest hits of a packet, as [`closest_hit_x8`] (through the BVH
     /// if attached).
     #[inline]
@@ -515,6 +562,84 @@ mod tests {
             let r = if i < n { 0.4 } else { 1.0 };
             Sphere::new(Vec3::new(i as f32, 0.0, -5.0), r)
         })
+    }
+
+    /// The eight-ray any-hit answers, lane by lane, what the one-ray
+    /// any-hit does, with a BVH and without, for shadow rays that stop
+    /// at a sphere (as direct lighting's do), rays that stop short of one
+    /// and rays that miss, under every mask of live lanes tried.
+    #[test]
+    fn eight_shadow_rays_answer_as_one_ray_each() {
+        use crate::rng::{Pcg32, STREAM, next_f32};
+        let mut rng = Pcg32::new(11, STREAM);
+        let mut f = move || next_f32(&mut rng);
+        let s: [Sphere; 20] = core::array::from_fn(|_| {
+            let c = Vec3::new(f() * 8.0 - 4.0, f() * 4.0 - 2.0, f() * 8.0 - 4.0);
+            Sphere::new(c, 0.2 + f() * 0.8)
+        });
+        let materials = [GREY, LAMP];
+        let sphere_material: [u32; 20] = core::array::from_fn(|i| (i % 5 == 0) as u32);
+        let (mut with_bvh, mut brute) = (Buffers::new(), Buffers::new());
+        let bvh = Scene::build(
+            &s,
+            &materials,
+            &sphere_material,
+            Background::Sky,
+            with_bvh.storage(),
+        )
+        .unwrap();
+        let mut plain = brute.storage();
+        plain.bvh_nodes = &mut [];
+        let flat = Scene::build(&s, &materials, &sphere_material, Background::Sky, plain).unwrap();
+        assert!(bvh.has_bvh() && !flat.has_bvh());
+        let mut stack = BvhStack::new();
+        let (mut hits, mut total) = (0, 0);
+        for round in 0..400u32 {
+            let rays: [Ray; 8] = core::array::from_fn(|_| {
+                let o = Vec3::new(f() * 10.0 - 5.0, f() * 6.0 - 3.0, f() * 10.0 - 5.0);
+                let target = s[(f() * 20.0) as usize];
+                let to = target.center - o;
+                let dist = to.length();
+                let ray = Ray::new(o, to / dist);
+                // Up to the target's near side, short of it, or past it.
+                let t_max = match round % 3 {
+                    0 => dist - target.radius,
+                    1 => dist * f() * 0.5,
+                    _ => f32::INFINITY,
+                };
+                ray.with_range(1e-4, t_max)
+            });
+            let packet =
+                RayPacket8::from_rays(&rays).with_active_bits((round * 37 % 255 + 1) as u8);
+            let want: u32 = (0..8)
+                .filter(|&k| packet.active_bits() >> k & 1 == 1 && bvh.any_hit(&rays[k]))
+                .map(|k| 1 << k)
+                .sum();
+            let want_flat: u32 = (0..8)
+                .filter(|&k| packet.active_bits() >> k & 1 == 1 && flat.any_hit(&rays[k]))
+                .map(|k| 1 << k)
+                .sum();
+            assert_eq!(want, want_flat, "round {round}");
+            assert_eq!(bvh.any_hit_x8(&packet), want, "round {round}");
+            assert_eq!(
+                bvh.any_hit_x8_with(&packet, &mut stack),
+                want,
+                "round {round}"
+            );
+            assert_eq!(flat.any_hit_x8(&packet), want, "round {round}");
+            assert_eq!(
+                flat.any_hit_x8_with(&packet, &mut stack),
+                want,
+                "round {round}"
+            );
+            hits += want.count_ones();
+            total += packet.active_bits().count_ones();
+        }
+        // Both answers occur often.
+        assert!(
+            hits > total / 5 && hits < total * 4 / 5,
+            "{hits} of {total}"
+        );
     }
 
     #[test]

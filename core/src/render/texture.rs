@@ -186,6 +186,20 @@ impl Texture<'_> {
     }
 
     /// [`Texture::filtered`] for the textures that vary.
+    /// [`Texture::filtered`] over lanes: a solid colour in every lane, or
+    /// the texture lane by lane (a checker's box average is taken in
+    /// `f64`, an image's texel fetched).
+    #[inline(always)]
+    pub(crate) fn filtered_lanes<L: Lanes>(&self, uv: (L, L), p: V3<L>, half_width: V3<L>) -> V3<L> {
+        if let Texture::Solid(c) = self {
+            return V3::splat(*c);
+        }
+        V3::from_fn(|k| {
+            let uv = Vec2::new(uv.0.lane(k), uv.1.lane(k));
+            self.filtered_varying(uv, p.lane(k), half_width.lane(k))
+        })
+    }
+
     #[inline(never)]
     fn filtered_varying(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
         let Texture::Checker { scale, even, odd } = self else {

@@ -4,13 +4,12 @@
 
 use core::f32::consts::FRAC_1_PI;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
-use super::{
-    BsdfSample, Feed, Lobe, MaterialError, Shading, SurfaceHit, check, non_negative, texture_ok,
-};
-use crate::mapping::{pdf_cosine_hemisphere, sample_cosine_hemisphere};
-use crate::onb::Onb;
+use super::{BsdfLanes, Feed, MaterialError, Shading, SurfaceLanes, check, non_negative, texture_ok};
+use crate::lanes::{Lanes, V3};
+use crate::mapping::{cosine_hemisphere, cosine_hemisphere_pdf};
+use crate::onb::OnbLanes;
 use crate::render::texture::Texture;
 
 /// Ideal diffuse reflection.
@@ -24,16 +23,16 @@ impl Lambertian<'_> {
         check(texture_ok(&self.albedo), MaterialError::Colour)
     }
 
-    #[inline]
-    pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
-        s.albedo(&self.albedo) * FRAC_1_PI
+    #[inline(always)]
+    pub(super) fn brdf<L: Lanes>(&self, s: &Shading<'_, L>) -> V3<L> {
+        s.albedo(&self.albedo) * L::splat(FRAC_1_PI)
     }
 
     /// A cosine sample, whose weight `f cos θ / pdf` is the albedo itself:
     /// taken as it is, not through `ρ/π · π` (0 below the surface, as the
     /// BRDF is: only a degenerate normal, zero or NaN, gets there).
-    #[inline]
-    pub(super) fn sample(&self, hit: &SurfaceHit, u: Vec2) -> Option<BsdfSample> {
+    #[inline(always)]
+    pub(super) fn sample<L: Lanes>(&self, hit: &SurfaceLanes<L>, u: (L, L)) -> BsdfLanes<L> {
         sample_lambertian(&self.albedo, hit, u)
     }
 
@@ -44,19 +43,15 @@ impl Lambertian<'_> {
 
 /// [`Lambertian::sample`] from the albedo alone.
 #[inline(always)]
-pub(super) fn sample_lambertian(
+pub(super) fn sample_lambertian<L: Lanes>(
     albedo: &Texture<'_>,
-    hit: &SurfaceHit,
-    u: Vec2,
-) -> Option<BsdfSample> {
-    let rho = albedo.filtered(hit.uv, hit.p, hit.footprint);
-    sample_cosine(
-        hit.n,
-        u,
-        |wi| {
-            if hit.n.dot(wi) > 0.0 { rho } else { Vec3::ZERO }
-        },
-    )
+    hit: &SurfaceLanes<L>,
+    u: (L, L),
+) -> BsdfLanes<L> {
+    let rho = albedo.filtered_lanes(hit.uv, hit.p, hit.footprint);
+    sample_cosine(hit.n, u, |wi| {
+        V3::select(hit.n.dot(wi).gt(L::splat(0.0)), rho, V3::splat(Vec3::ZERO))
+    })
 }
 
 /// The checks of a diffuse base under a lobe: its colour, then both
@@ -70,33 +65,31 @@ pub(super) fn validate_base(albedo: &Texture<'_>, kd: f32, ks: f32) -> Result<()
 }
 
 /// `ρ kd/π`: the diffuse part of a lobe that adds a white specular term.
-#[inline]
-pub(super) fn base(rho: Vec3, kd: f32) -> Vec3 {
-    rho * (kd * FRAC_1_PI)
+#[inline(always)]
+pub(super) fn base<L: Lanes>(rho: V3<L>, kd: f32) -> V3<L> {
+    rho * L::splat(kd * FRAC_1_PI)
 }
 
 /// Draws `L` from the cosine hemisphere around `n` and weights it by
 /// `f cos θ / pdf = π f`, with `weight` giving that at the drawn
-/// direction; `None` on the rim, where the density is 0.
-#[inline]
-pub(super) fn sample_cosine(
-    n: Vec3,
-    u: Vec2,
-    weight: impl FnOnce(Vec3) -> Vec3,
-) -> Option<BsdfSample> {
-    let local = sample_cosine_hemisphere(u);
-    let pdf = pdf_cosine_hemisphere(local);
-    if pdf <= 0.0 {
-        return None;
-    }
-    let wi = Onb::from_normal(n).to_world(local);
+/// direction; not live on the rim, where the density is 0.
+#[inline(always)]
+pub(super) fn sample_cosine<L: Lanes>(
+    n: V3<L>,
+    u: (L, L),
+    weight: impl FnOnce(V3<L>) -> V3<L>,
+) -> BsdfLanes<L> {
+    let local = cosine_hemisphere(u.0, u.1);
+    let pdf = cosine_hemisphere_pdf(local);
+    let wi = OnbLanes::from_normal(n).to_world(local);
     let weight = weight(wi);
-    Some(BsdfSample {
+    BsdfLanes {
         wi,
         weight,
-        lobe: Lobe::Smooth { pdf },
-        transmitted: false,
-    })
+        pdf,
+        transmitted: L::mask_splat(false),
+        live: L::not(pdf.le(L::splat(0.0))),
+    }
 }
 
 #[cfg(test)]

@@ -3,28 +3,26 @@
 
 use core::f32::consts::PI;
 
-use glam::Vec3;
-
-use super::{Feed, MaterialError, Shading, check, diffuse, r0_of, schlick};
+use super::{Feed, MaterialError, Shading, check, diffuse, max0, r0_of, schlick};
+use crate::lanes::{Lanes, V3};
 use crate::render::texture::Texture;
 
 /// The GGX normal distribution `D` at `n·H = cos_h`.
-#[inline]
-fn ggx(cos_h: f32, alpha: f32) -> f32 {
+#[inline(always)]
+fn ggx<L: Lanes>(cos_h: L, alpha: f32) -> L {
     let a2 = alpha * alpha;
-    let t = cos_h * cos_h * (a2 - 1.0) + 1.0;
-    a2 / (PI * t * t)
+    let t = cos_h * cos_h * L::splat(a2 - 1.0) + L::splat(1.0);
+    L::splat(a2) / (L::splat(PI) * t * t)
 }
 
 /// Smith's G₁ for GGX: `2 / (1 + √(1 + α² tan² θ))`, 0 below the surface.
-#[inline]
-fn smith_g1(cos: f32, alpha: f32) -> f32 {
-    if cos <= 0.0 {
-        return 0.0;
-    }
+#[inline(always)]
+fn smith_g1<L: Lanes>(cos: L, alpha: f32) -> L {
+    let (k1, z) = (L::splat(1.0), L::splat(0.0));
     let c2 = cos * cos;
-    let tan2 = (1.0 - c2).max(0.0) / c2;
-    2.0 / (1.0 + crate::float::sqrtf(1.0 + alpha * alpha * tan2))
+    let tan2 = max0(k1 - c2) / c2;
+    let g = L::splat(2.0) / (k1 + (k1 + L::splat(alpha * alpha) * tan2).sqrt());
+    L::select(cos.le(z), z, g)
 }
 
 /// Cook–Torrance's parameters.
@@ -57,20 +55,19 @@ impl<'a> CookTorrance<'a> {
 
     /// `ρ kd/π + ks D G₁(V) G₁(L) F / (4 (n·V)(n·L))`, the specular term 0
     /// when `V` or `H` is below the surface.
-    #[inline]
-    pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
-        let alpha = self.alpha;
+    #[inline(always)]
+    pub(super) fn brdf<L: Lanes>(&self, s: &Shading<'_, L>) -> V3<L> {
+        let (alpha, z) = (self.alpha, L::splat(0.0));
         let n = s.n();
         let cos_v = n.dot(s.v);
         let h = s.half();
         let cos_h = n.dot(h);
-        let mut spec = 0.0;
-        if cos_v > 0.0 && cos_h > 0.0 {
-            let g = smith_g1(cos_v, alpha) * smith_g1(s.cos_l, alpha);
-            let f = schlick(s.v.dot(h), r0_of(self.ior));
-            spec = self.ks * ggx(cos_h, alpha) * g * f / (4.0 * cos_v * s.cos_l);
-        }
-        diffuse::base(s.albedo(&self.albedo), self.kd) + Vec3::splat(spec)
+        let g = smith_g1(cos_v, alpha) * smith_g1(s.cos_l, alpha);
+        let f = schlick(s.v.dot(h), L::splat(r0_of(self.ior)));
+        let spec = L::splat(self.ks) * ggx(cos_h, alpha) * g * f
+            / (L::splat(4.0) * cos_v * s.cos_l);
+        let spec = L::select(L::and(cos_v.gt(z), cos_h.gt(z)), spec, z);
+        diffuse::base(s.albedo(&self.albedo), self.kd) + V3::new(spec, spec, spec)
     }
 
     pub(super) fn content(&self, out: &mut Feed<'_>) {

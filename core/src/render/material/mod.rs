@@ -55,6 +55,7 @@ use core::f32::consts::{FRAC_1_PI, PI};
 use glam::{Vec2, Vec3};
 
 use super::texture::Texture;
+use crate::lanes::{Lanes, V3};
 use diffuse::Lambertian;
 use emissive::DiffuseLight;
 use microfacet::CookTorrance;
@@ -94,6 +95,72 @@ impl SurfaceHit {
     pub fn outward(&self) -> Vec3 {
         if self.front_face { self.n } else { -self.n }
     }
+}
+
+/// [`SurfaceHit`] over lanes: what a lane form of shading reads.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SurfaceLanes<L: Lanes> {
+    pub(crate) p: V3<L>,
+    pub(crate) n: V3<L>,
+    pub(crate) front_face: L::Mask,
+    pub(crate) uv: (L, L),
+    pub(crate) footprint: V3<L>,
+}
+
+impl<L: Lanes> SurfaceLanes<L> {
+    /// [`SurfaceHit::outward`] per lane.
+    #[inline(always)]
+    pub(crate) fn outward(&self) -> V3<L> {
+        V3::select(self.front_face, self.n, -self.n)
+    }
+}
+
+impl From<&SurfaceHit> for SurfaceLanes<f32> {
+    #[inline(always)]
+    fn from(h: &SurfaceHit) -> Self {
+        Self {
+            p: h.p.into(),
+            n: h.n.into(),
+            front_face: h.front_face,
+            uv: (h.uv.x, h.uv.y),
+            footprint: h.footprint.into(),
+        }
+    }
+}
+
+impl From<&SurfaceLanes<f32>> for SurfaceHit {
+    #[inline(always)]
+    fn from(h: &SurfaceLanes<f32>) -> Self {
+        Self {
+            p: h.p.into(),
+            n: h.n.into(),
+            front_face: h.front_face,
+            uv: Vec2::new(h.uv.0, h.uv.1),
+            footprint: h.footprint.into(),
+        }
+    }
+}
+
+/// A sampled direction over lanes ([`BsdfSample`] per lane).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BsdfLanes<L: Lanes> {
+    /// Unit outgoing direction.
+    pub(crate) wi: V3<L>,
+    /// `f cos θ / pdf` (smooth) or the colour (specular).
+    pub(crate) weight: V3<L>,
+    /// The smooth lobe's density (the material decides, for all lanes,
+    /// whether its lobe is smooth: [`Material::is_smooth`]).
+    pub(crate) pdf: L,
+    /// The lanes whose direction crosses the surface.
+    pub(crate) transmitted: L::Mask,
+    /// The lanes not absorbed (where `sample` gives `Some`).
+    pub(crate) live: L::Mask,
+}
+
+/// `max(x, 0)` per lane, NaN to 0 (as `f32::max` has it).
+#[inline(always)]
+pub(crate) fn max0<L: Lanes>(x: L) -> L {
+    L::select(x.gt(L::splat(0.0)), x, L::splat(0.0))
 }
 
 /// How a sampled direction was chosen.
@@ -254,17 +321,19 @@ impl core::fmt::Display for MaterialError {
 impl core::error::Error for MaterialError {}
 
 /// `r₀ + (1 − r₀)(1 − c)⁵`.
-#[inline]
-fn schlick(cosine: f32, r0: f32) -> f32 {
-    let m = (1.0 - cosine).clamp(0.0, 1.0);
+#[inline(always)]
+fn schlick<L: Lanes>(cosine: L, r0: L) -> L {
+    let k1 = L::splat(1.0);
+    let m = (k1 - cosine).clamp_to(0.0, 1.0);
     let m2 = m * m;
-    r0 + (1.0 - r0) * (m2 * m2 * m)
+    r0 + (k1 - r0) * (m2 * m2 * m)
 }
 
 /// `((1 − η)/(1 + η))²`.
-#[inline]
-fn r0_of(eta: f32) -> f32 {
-    let r = (1.0 - eta) / (1.0 + eta);
+#[inline(always)]
+fn r0_of<L: Lanes>(eta: L) -> L {
+    let k1 = L::splat(1.0);
+    let r = (k1 - eta) / (k1 + eta);
     r * r
 }
 
@@ -292,32 +361,33 @@ fn non_negative(x: f32) -> bool {
     x >= 0.0 && x.is_finite()
 }
 
-/// What a smooth BRDF reads at the hit: `V = −d` and `L = wi`, with
-/// `cos_l = n·L > 0` (below the surface every BRDF is 0 and is not asked).
-struct Shading<'h> {
-    hit: &'h SurfaceHit,
-    v: Vec3,
-    wi: Vec3,
-    cos_l: f32,
+/// What a smooth BRDF reads at the hit, per lane: `V = −d` and `L = wi`,
+/// with `cos_l = n·L` (where it is not positive the BRDF is 0, and the
+/// caller replaces what the lane computes).
+struct Shading<'h, L: Lanes> {
+    hit: &'h SurfaceLanes<L>,
+    v: V3<L>,
+    wi: V3<L>,
+    cos_l: L,
 }
 
-impl Shading<'_> {
+impl<L: Lanes> Shading<'_, L> {
     /// The unit shading normal.
-    #[inline]
-    fn n(&self) -> Vec3 {
+    #[inline(always)]
+    fn n(&self) -> V3<L> {
         self.hit.n
     }
 
     /// The albedo `ρ` at the hit, averaged over its footprint.
-    #[inline]
-    fn albedo(&self, t: &Texture<'_>) -> Vec3 {
-        t.filtered(self.hit.uv, self.hit.p, self.hit.footprint)
+    #[inline(always)]
+    fn albedo(&self, t: &Texture<'_>) -> V3<L> {
+        t.filtered_lanes(self.hit.uv, self.hit.p, self.hit.footprint)
     }
 
     /// The half vector `unit(V + L)` of Blinn and Cook–Torrance.
-    #[inline]
-    fn half(&self) -> Vec3 {
-        crate::float::normalize_or_zero(self.v + self.wi)
+    #[inline(always)]
+    fn half(&self) -> V3<L> {
+        (self.v + self.wi).normalize_or_zero()
     }
 }
 
@@ -528,9 +598,18 @@ impl<'a> Material<'a> {
     #[inline]
     #[must_use]
     pub fn brdf(&self, d: Vec3, hit: &SurfaceHit, wi: Vec3) -> Vec3 {
+        self.brdf_lanes(V3::from(d), &hit.into(), V3::from(wi)).into()
+    }
+
+    /// [`Material::brdf`] over lanes.
+    #[inline(always)]
+    pub(crate) fn brdf_lanes<L: Lanes>(&self, d: V3<L>, hit: &SurfaceLanes<L>, wi: V3<L>) -> V3<L> {
+        let zero = V3::splat(Vec3::ZERO);
         let cos_l = hit.n.dot(wi);
-        if cos_l <= 0.0 {
-            return Vec3::ZERO;
+        // Not `cos_l > 0`: a NaN lane goes on to a NaN, which the film drops.
+        let above = L::not(cos_l.le(L::splat(0.0)));
+        if !L::any(above) {
+            return zero;
         }
         let s = Shading {
             hit,
@@ -538,13 +617,14 @@ impl<'a> Material<'a> {
             wi,
             cos_l,
         };
-        match self.family() {
+        let f = match self.family() {
             Family::Diffuse(m) => m.brdf(&s),
             Family::Phong(m) => m.brdf(&s),
             Family::Microfacet(m) => m.brdf(&s),
             // Delta lobes and emitters have no density to evaluate.
-            Family::Specular(_) | Family::Emissive(_) => Vec3::ZERO,
-        }
+            Family::Specular(_) | Family::Emissive(_) => zero,
+        };
+        V3::select(above, f, zero)
     }
 
     /// `f(V, L) cos θ` and the density with which [`Material::sample`]
@@ -553,15 +633,31 @@ impl<'a> Material<'a> {
     #[inline]
     #[must_use]
     pub fn eval(&self, d: Vec3, hit: &SurfaceHit, wi: Vec3) -> (Vec3, f32) {
+        let (f, pdf) = self.eval_lanes(V3::from(d), &hit.into(), V3::from(wi));
+        (f.into(), pdf)
+    }
+
+    /// [`Material::eval`] over lanes.
+    #[inline(always)]
+    pub(crate) fn eval_lanes<L: Lanes>(
+        &self,
+        d: V3<L>,
+        hit: &SurfaceLanes<L>,
+        wi: V3<L>,
+    ) -> (V3<L>, L) {
+        let (zero, z) = (V3::splat(Vec3::ZERO), L::splat(0.0));
         if !self.is_smooth() {
-            return (Vec3::ZERO, 0.0);
+            return (zero, z);
         }
         let cos = hit.n.dot(wi);
-        if cos <= 0.0 {
-            return (Vec3::ZERO, 0.0);
+        let above = L::not(cos.le(z));
+        if !L::any(above) {
+            return (zero, z);
         }
         // Every smooth family samples the cosine hemisphere: pdf = cos θ / π.
-        (self.brdf(d, hit, wi) * cos, cos * FRAC_1_PI)
+        let f = self.brdf_lanes(d, hit, wi) * cos;
+        let pdf = cos * L::splat(FRAC_1_PI);
+        (V3::select(above, f, zero), L::select(above, pdf, z))
     }
 
     /// Samples an outgoing direction for a ray of direction `d` at `hit`,
@@ -584,6 +680,28 @@ impl<'a> Material<'a> {
     #[inline]
     #[must_use]
     pub fn sample(&self, d: Vec3, hit: &SurfaceHit, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
+        let s = self.sample_lanes(V3::from(d), &hit.into(), (u.x, u.y), u_lobe);
+        s.live.then(|| BsdfSample {
+            wi: s.wi.into(),
+            weight: s.weight.into(),
+            lobe: if self.is_smooth() {
+                Lobe::Smooth { pdf: s.pdf }
+            } else {
+                Lobe::Specular
+            },
+            transmitted: s.transmitted,
+        })
+    }
+
+    /// [`Material::sample`] over lanes.
+    #[inline(always)]
+    pub(crate) fn sample_lanes<L: Lanes>(
+        &self,
+        d: V3<L>,
+        hit: &SurfaceLanes<L>,
+        u: (L, L),
+        u_lobe: L,
+    ) -> BsdfLanes<L> {
         // The Lambertian, the commonest material, without the family
         // conversion.
         if let Material::Lambertian { albedo } = self {
@@ -595,9 +713,15 @@ impl<'a> Material<'a> {
             // Every smooth lobe is sampled by the cosine: its BRDF is
             // evaluated at the drawn direction; f cos θ / pdf = π f.
             Family::Phong(_) | Family::Microfacet(_) => {
-                diffuse::sample_cosine(hit.n, u, |wi| self.brdf(d, hit, wi) * PI)
+                diffuse::sample_cosine(hit.n, u, |wi| self.brdf_lanes(d, hit, wi) * L::splat(PI))
             }
-            Family::Emissive(_) => None,
+            Family::Emissive(_) => BsdfLanes {
+                wi: V3::splat(Vec3::ZERO),
+                weight: V3::splat(Vec3::ZERO),
+                pdf: L::splat(0.0),
+                transmitted: L::mask_splat(false),
+                live: L::mask_splat(false),
+            },
         }
     }
 

@@ -5,9 +5,8 @@
 
 use core::f32::consts::{FRAC_1_PI, PI};
 
-use glam::Vec3;
-
-use super::{Feed, MaterialError, Shading, check, diffuse, non_negative};
+use super::{Feed, MaterialError, Shading, check, diffuse, max0, non_negative};
+use crate::lanes::{Lanes, V3};
 use crate::render::texture::Texture;
 
 /// Which of the four lobes.
@@ -22,10 +21,12 @@ pub(super) enum Kind {
 impl Kind {
     /// The cosine the lobe raises to the exponent: `R·V` with `R` the
     /// mirror of `L` about `n`, or `n·H`.
-    #[inline]
-    fn cosine(self, s: &Shading<'_>) -> f32 {
+    #[inline(always)]
+    fn cosine<L: Lanes>(self, s: &Shading<'_, L>) -> L {
         match self {
-            Kind::Phong | Kind::PhongNormalized => (s.n() * (2.0 * s.cos_l) - s.wi).dot(s.v),
+            Kind::Phong | Kind::PhongNormalized => {
+                (s.n() * (L::splat(2.0) * s.cos_l) - s.wi).dot(s.v)
+            }
             Kind::Blinn | Kind::BlinnNormalized => s.n().dot(s.half()),
         }
     }
@@ -49,9 +50,9 @@ impl Kind {
 
 /// `max(0, x)^α` (`0^0` is 1, as `powf` has it), by the plain-`f32`
 /// power of `crate::pow` (within about 10⁻⁶ of `powf`).
-#[inline]
-fn lobe(x: f32, alpha: f32) -> f32 {
-    crate::pow::pow_nonneg(x.max(0.0), alpha)
+#[inline(always)]
+fn lobe<L: Lanes>(x: L, alpha: f32) -> L {
+    crate::pow::pow_nonneg(max0(x), L::splat(alpha))
 }
 
 /// One of the four lobes with its parameters.
@@ -89,14 +90,17 @@ impl<'a> Phong<'a> {
 
     /// The course's lobes tint the specular term with `ρ`; the normalised
     /// ones keep it white.
-    #[inline]
-    pub(super) fn brdf(&self, s: &Shading<'_>) -> Vec3 {
+    #[inline(always)]
+    pub(super) fn brdf<L: Lanes>(&self, s: &Shading<'_, L>) -> V3<L> {
         let (kd, ks, exponent) = (self.kd, self.ks, self.exponent);
         let rho = s.albedo(&self.albedo);
         let x = self.kind.cosine(s);
         match self.kind.normalisation(exponent) {
-            None => rho * (kd * FRAC_1_PI + ks * lobe(x, exponent)),
-            Some(norm) => diffuse::base(rho, kd) + Vec3::splat(ks * norm * lobe(x, exponent)),
+            None => rho * (L::splat(kd * FRAC_1_PI) + L::splat(ks) * lobe(x, exponent)),
+            Some(norm) => {
+                let spec = L::splat(ks * norm) * lobe(x, exponent);
+                diffuse::base(rho, kd) + V3::new(spec, spec, spec)
+            }
         }
     }
 

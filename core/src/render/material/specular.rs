@@ -3,25 +3,27 @@
 //! no cosine and no BRDF, so they are never evaluated and take no direct
 //! lighting.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
-use super::{BsdfSample, Feed, Lobe, MaterialError, SurfaceHit, check, colour_ok, r0_of, schlick};
-use crate::mapping::sample_uniform_sphere;
+use super::{BsdfLanes, Feed, MaterialError, SurfaceLanes, check, colour_ok, max0, r0_of, schlick};
+use crate::lanes::{Lanes, V3};
+use crate::mapping::uniform_sphere;
 
 /// The mirror of `d` about `n`.
-#[inline]
-fn reflect(d: Vec3, n: Vec3) -> Vec3 {
-    d - n * (2.0 * d.dot(n))
+#[inline(always)]
+fn reflect<L: Lanes>(d: V3<L>, n: V3<L>) -> V3<L> {
+    d - n * (L::splat(2.0) * d.dot(n))
 }
 
-/// A reflected direction carrying `weight`.
-#[inline]
-fn reflected(wi: Vec3, weight: Vec3) -> BsdfSample {
-    BsdfSample {
+/// A reflected direction carrying `weight`, live where `live`.
+#[inline(always)]
+fn reflected<L: Lanes>(wi: V3<L>, weight: Vec3, live: L::Mask) -> BsdfLanes<L> {
+    BsdfLanes {
         wi,
-        weight,
-        lobe: Lobe::Specular,
-        transmitted: false,
+        weight: V3::splat(weight),
+        pdf: L::splat(0.0),
+        transmitted: L::mask_splat(false),
+        live,
     }
 }
 
@@ -48,32 +50,33 @@ impl Specular {
 
     /// Metal adds `roughness` times a uniform unit vector to the mirror
     /// direction and is absorbed when that points below the surface.
-    #[inline]
-    pub(super) fn sample(
+    #[inline(always)]
+    pub(super) fn sample<L: Lanes>(
         &self,
-        d: Vec3,
-        hit: &SurfaceHit,
-        u: Vec2,
-        u_lobe: f32,
-    ) -> Option<BsdfSample> {
+        d: V3<L>,
+        hit: &SurfaceLanes<L>,
+        u: (L, L),
+        u_lobe: L,
+    ) -> BsdfLanes<L> {
         let n = hit.n;
+        let above = |wi: V3<L>| wi.dot(n).gt(L::splat(0.0));
         match *self {
-            Specular::Mirror { albedo } => Some(reflected(reflect(d, n), albedo)),
+            Specular::Mirror { albedo } => reflected(reflect(d, n), albedo, L::mask_splat(true)),
             // An unfuzzed metal is a coloured mirror: no sphere sample, the
             // same absorption below the surface.
             Specular::Metal {
                 albedo,
                 roughness: 0.0,
             } => {
-                let wi = crate::float::normalize_or_zero(reflect(d, n));
-                (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
+                let wi = reflect(d, n).normalize_or_zero();
+                reflected(wi, albedo, above(wi))
             }
             Specular::Metal { albedo, roughness } => {
-                let fuzzed = reflect(d, n) + sample_uniform_sphere(u) * roughness;
-                let wi = crate::float::normalize_or_zero(fuzzed);
-                (wi.dot(n) > 0.0).then_some(reflected(wi, albedo))
+                let fuzzed = reflect(d, n) + uniform_sphere(u.0, u.1) * L::splat(roughness);
+                let wi = fuzzed.normalize_or_zero();
+                reflected(wi, albedo, above(wi))
             }
-            Specular::Dielectric { ior } => Some(refract_or_reflect(d, hit, ior, u_lobe)),
+            Specular::Dielectric { ior } => refract_or_reflect(d, hit, ior, u_lobe),
         }
     }
 
@@ -91,28 +94,27 @@ impl Specular {
 
 /// Glass: reflects when `u_lobe` falls under Schlick's reflectance (always
 /// under total internal reflection), else refracts by Snell's law.
-#[inline]
-fn refract_or_reflect(d: Vec3, hit: &SurfaceHit, ior: f32, u_lobe: f32) -> BsdfSample {
-    let n = hit.n;
-    let eta = if hit.front_face { 1.0 / ior } else { ior };
-    let cos_i = (-d.dot(n)).min(1.0);
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    let cos_t = crate::float::sqrtf((1.0 - sin2_t).max(0.0));
+#[inline(always)]
+fn refract_or_reflect<L: Lanes>(d: V3<L>, hit: &SurfaceLanes<L>, ior: f32, u_lobe: L) -> BsdfLanes<L> {
+    let (k1, n) = (L::splat(1.0), hit.n);
+    let eta = L::select(hit.front_face, L::splat(1.0 / ior), L::splat(ior));
+    let cos_i = (-d.dot(n)).clamp_to(f32::NEG_INFINITY, 1.0);
+    // (`min(x, 1)` takes a NaN to 1.)
+    let cos_i = L::select(cos_i.eq(cos_i), cos_i, k1);
+    let sin2_t = eta * eta * (k1 - cos_i * cos_i);
+    let cos_t = max0(k1 - sin2_t).sqrt();
     // Schlick's approximation takes the cosine on the side of the
     // thinner medium: the incident one entering, the
     // transmitted one leaving (else it is far too low inside).
-    let cos_outside = if eta <= 1.0 { cos_i } else { cos_t };
-    let reflects = sin2_t > 1.0 || u_lobe < schlick(cos_outside, r0_of(eta));
-    let wi = if reflects {
-        reflect(d, n)
-    } else {
-        crate::float::normalize(d * eta + n * (eta * cos_i - cos_t))
-    };
-    BsdfSample {
-        wi,
-        weight: Vec3::ONE,
-        lobe: Lobe::Specular,
-        transmitted: !reflects,
+    let cos_outside = L::select(eta.le(k1), cos_i, cos_t);
+    let reflects = L::or(sin2_t.gt(k1), u_lobe.lt(schlick(cos_outside, r0_of(eta))));
+    let refracted = (d * eta + n * (eta * cos_i - cos_t)).normalize();
+    BsdfLanes {
+        wi: V3::select(reflects, reflect(d, n), refracted),
+        weight: V3::splat(Vec3::ONE),
+        pdf: L::splat(0.0),
+        transmitted: L::not(reflects),
+        live: L::mask_splat(true),
     }
 }
 

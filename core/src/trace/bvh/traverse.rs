@@ -541,13 +541,23 @@ impl Bvh<'_> {
     #[must_use]
     #[inline]
     pub fn any_hit_x8(&self, packet: &RayPacket8) -> u32 {
+        self.any_x8_from(packet, &mut [0; STACK])
+    }
+
+    /// [`Bvh::any_hit_x8`] on the caller's reusable `stack`.
+    #[must_use]
+    #[inline]
+    pub fn any_hit_x8_with(&self, packet: &RayPacket8, stack: &mut BvhStack) -> u32 {
+        self.any_x8_from(packet, &mut stack.any)
+    }
+
+    fn any_x8_from(&self, packet: &RayPacket8, stack: &mut [u32; STACK]) -> u32 {
         let mut out = 0;
-        let mut stack = [0; STACK];
         let mut m = packet.active_bits();
         while m != 0 {
             let lane = m.trailing_zeros();
             m &= m - 1;
-            if self.any_from(&packet.ray(lane as usize), &mut stack) {
+            if self.any_from(&packet.ray(lane as usize), stack) {
                 out |= 1 << lane;
             }
         }
