@@ -195,7 +195,10 @@ mod tests {
             let n8 = crate::lanes::V3::<crate::lanes::f32x8>::splat(v).normalize();
             let n1 = normalize(v);
             for (x, y) in n8.lane(3).to_array().into_iter().zip(n1.to_array()) {
-                assert!(x.to_bits() == y.to_bits() || x.is_nan() && y.is_nan(), "{v}");
+                assert!(
+                    x.to_bits() == y.to_bits() || x.is_nan() && y.is_nan(),
+                    "{v}"
+                );
             }
         }
     }

@@ -103,6 +103,8 @@ pub(crate) trait Lanes:
     fn mask_lane(mask: Self::Mask, k: usize) -> bool;
     /// `b` in every lane of a mask.
     fn mask_splat(b: bool) -> Self::Mask;
+    /// The number of lanes set.
+    fn count(mask: Self::Mask) -> u32;
 
     /// `|x|`, by clearing the sign bit (so `|−0| = 0` and NaNs lose their
     /// sign).
@@ -152,6 +154,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn mask_splat(b: bool) -> bool {
         b
+    }
+    #[inline(always)]
+    fn count(mask: bool) -> u32 {
+        u32::from(mask)
     }
     #[inline(always)]
     fn splat(x: f32) -> Self {
@@ -254,6 +260,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn mask_splat(b: bool) -> f32x8 {
         mask_from_bools([b; 8])
+    }
+    #[inline(always)]
+    fn count(mask: f32x8) -> u32 {
+        lanes_bitmask(mask).count_ones()
     }
     #[inline(always)]
     fn splat(x: f32) -> Self {
@@ -383,7 +393,11 @@ impl<L: Lanes> V3<L> {
             let v = f(0);
             return Self::splat(v);
         }
-        Self::new(L::from_fn(|k| f(k).x), L::from_fn(|k| f(k).y), L::from_fn(|k| f(k).z))
+        Self::new(
+            L::from_fn(|k| f(k).x),
+            L::from_fn(|k| f(k).y),
+            L::from_fn(|k| f(k).z),
+        )
     }
 
     /// `if mask { a } else { b }` per lane.
@@ -400,6 +414,29 @@ impl<L: Lanes> V3<L> {
     #[inline(always)]
     pub(crate) fn mul_v(self, o: Self) -> Self {
         Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+
+    /// Each component divided by `s` (not times `1/s`: glam's `v / s`).
+    #[inline(always)]
+    pub(crate) fn div(self, s: L) -> Self {
+        Self::new(self.x / s, self.y / s, self.z / s)
+    }
+
+    /// The lanes where every component is finite.
+    #[inline(always)]
+    pub(crate) fn is_finite(self) -> L::Mask {
+        let inf = L::splat(f32::INFINITY);
+        L::and(
+            L::and(self.x.abs().lt(inf), self.y.abs().lt(inf)),
+            self.z.abs().lt(inf),
+        )
+    }
+
+    /// The lanes where every component is zero (either sign).
+    #[inline(always)]
+    pub(crate) fn is_zero(self) -> L::Mask {
+        let z = L::splat(0.0);
+        L::and(L::and(self.x.eq(z), self.y.eq(z)), self.z.eq(z))
     }
 
     /// `|v|`, with the bits of glam's `Vec3::length`.

@@ -351,10 +351,14 @@ pub(crate) fn concentric<L: Lanes>(u0: L, u1: L) -> (L, L, L) {
     let (x, y) = (L::select(wide, cos, sin), L::select(wide, sin, cos));
     // The centre (0/0 above) maps to itself.
     let centre = L::and(a.eq(zero), b.eq(zero));
+    let (r, x, y) = (r.abs(), r * x, r * y);
+    if !L::any(centre) {
+        return (r, x, y);
+    }
     (
-        L::select(centre, zero, r.abs()),
-        L::select(centre, zero, r * x),
-        L::select(centre, zero, r * y),
+        L::select(centre, zero, r),
+        L::select(centre, zero, x),
+        L::select(centre, zero, y),
     )
 }
 
@@ -616,8 +620,15 @@ pub(crate) fn uniform_cone_pdf<L: Lanes>(w: V3<L>, cone: &ConeLanes<L>) -> L {
         (w.x * w.x + w.y * w.y) / (k1 + w.z),
         k1 - w.z,
     );
-    let inside = L::and(one_minus_z.le(cone.one_minus_cos * L::splat(SLACK)), not_nan(w));
-    L::select(inside, L::splat(INV_2PI) / cone.one_minus_cos, L::splat(0.0))
+    let inside = L::and(
+        one_minus_z.le(cone.one_minus_cos * L::splat(SLACK)),
+        not_nan(w),
+    );
+    L::select(
+        inside,
+        L::splat(INV_2PI) / cone.one_minus_cos,
+        L::splat(0.0),
+    )
 }
 
 #[inline]

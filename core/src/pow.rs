@@ -20,11 +20,19 @@ use crate::lanes::Lanes;
 #[inline(always)]
 fn log2_positive<L: Lanes>(x: L) -> L {
     let (k, int) = (L::splat, L::splat_int);
-    // Subnormals are scaled into the normal range first.
+    // Subnormals are scaled into the normal range first (behind a test
+    // of all lanes: they are rare, and one lane skips the work).
     let tiny = x.lt(k(f32::MIN_POSITIVE));
-    let x = L::select(tiny, x * k(16_777_216.0), x);
+    let (x, e_tiny) = if L::any(tiny) {
+        (
+            L::select(tiny, x * k(16_777_216.0), x),
+            L::select_int(tiny, int(-24), int(0)),
+        )
+    } else {
+        (x, int(0))
+    };
     let bits = x.to_bits();
-    let e = (bits >> 23) - int(127) + L::select_int(tiny, int(-24), int(0));
+    let e = (bits >> 23) - int(127) + e_tiny;
     // The mantissa in [1, 2), then in [√½, √2), so that s below is small.
     let m = L::from_bits((bits & int(0x007f_ffff)) | int(0x3f80_0000));
     let big = m.gt(k(SQRT_2));
@@ -45,8 +53,9 @@ fn log2_positive<L: Lanes>(x: L) -> L {
 #[inline(always)]
 pub(crate) fn exp2<L: Lanes>(y: L) -> L {
     let (k, int) = (L::splat, L::splat_int);
-    // Clamped so the exponent arithmetic below stays in range; the lanes
-    // outside are replaced at the end.
+    // Clamped so the exponent arithmetic below stays in range. The ends
+    // give the right limits by themselves: 2⁻¹⁵¹ rounds to 0 (as does all
+    // of 2^[−151, −150)), and 2¹²⁸ overflows to +∞.
     let yc = y.clamp_to(-151.0, 128.0);
     // Adding and taking away 1.5·2²³ rounds to the nearest integer (ties
     // to even) for |y| < 2²²: exact IEEE steps; the fraction f = y − n is
@@ -68,15 +77,13 @@ pub(crate) fn exp2<L: Lanes>(y: L) -> L {
     let n = n.to_int();
     let high = L::int_lt(int(127), n);
     let low = L::int_lt(n, int(-126));
+    if !L::any(L::or(high, low)) {
+        return p * L::from_bits((n + int(127)) << 23);
+    }
     let n1 = L::select_int(high, n - int(1), L::select_int(low, n + int(64), n));
-    let second = L::select(
-        high,
-        k(2.0),
-        L::select(low, k(1.0 / 18_446_744_073_709_551_616.0), k(1.0)),
-    );
-    let r = p * L::from_bits((n1 + int(127)) << 23) * second;
-    let r = L::select(y.lt(k(-150.0)), k(0.0), r);
-    L::select(y.ge(k(128.0)), k(f32::INFINITY), r)
+    let tiny = k(1.0 / 18_446_744_073_709_551_616.0);
+    let second = L::select(high, k(2.0), L::select(low, tiny, k(1.0)));
+    p * L::from_bits((n1 + int(127)) << 23) * second
 }
 
 /// `xᵃ` for `x ≥ 0` and a finite `a ≥ 0`: `x⁰ = 1` (`0⁰` included, as
@@ -90,10 +97,14 @@ pub(crate) fn pow_nonneg<L: Lanes>(x: L, a: L) -> L {
     // number; they are replaced below.
     let inside = L::and(x.gt(k(0.0)), x.lt(k(f32::INFINITY)));
     let r = exp2(a * log2_positive(L::select(inside, x, k(1.0))));
+    let zero_a = a.eq(k(0.0));
+    if !L::any(L::or(L::not(inside), zero_a)) {
+        return r;
+    }
     let r = L::select(x.eq(k(f32::INFINITY)), k(f32::INFINITY), r);
     let r = L::select(x.le(k(0.0)), k(0.0), r);
     let r = L::select(x.eq(x), r, k(f32::NAN));
-    L::select(a.eq(k(0.0)), k(1.0), r)
+    L::select(zero_a, k(1.0), r)
 }
 
 #[cfg(test)]

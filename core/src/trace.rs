@@ -322,7 +322,7 @@ impl Sphere {
     #[inline]
     #[must_use]
     pub fn offset_bound(&self) -> f32 {
-        SPAWN_OFFSET_ULPS * f32::EPSILON * (self.center.abs().max_element() + self.radius.abs())
+        offset_bound_lanes(&self.lanes())
     }
 
     /// A safe origin for a ray leaving the surface near `p` (e.g. a hit
@@ -376,11 +376,7 @@ impl Sphere {
     #[inline]
     #[must_use]
     pub fn spawn_origin_along(&self, n: Vec3, outside: bool) -> Vec3 {
-        // A sphere smaller than its own rounding at this position: stay
-        // within it rather than jump past its centre.
-        let offset = self.offset_bound().min(0.5 * self.radius);
-        let side = if outside { offset } else { -offset };
-        self.center + n * (self.radius + side)
+        spawn_origin_lanes(&self.lanes(), V3::from(n), outside).into()
     }
 
     /// The outward unit normal towards `p` (a point on or near the
@@ -402,15 +398,7 @@ impl Sphere {
     #[inline]
     #[must_use]
     pub fn unit_normal(&self, p: Vec3) -> Vec3 {
-        let v = p - self.center;
-        let len2 = v.dot(v);
-        if (1e-30..=1e30).contains(&len2) {
-            v * (1.0 / crate::float::sqrtf(len2))
-        } else {
-            // Scale before squaring.
-            let v = v / v.abs().max_element();
-            v / crate::float::sqrtf(v.length_squared())
-        }
+        unit_normal_lanes(V3::from(p), V3::from(self.center)).into()
     }
 }
 
@@ -518,6 +506,63 @@ pub(crate) fn may_hit<L: Lanes>(k: &Quadratic<L>, t_min: L) -> L::Mask {
     // non-negative t_min either: t₀ is NaN, and q is NaN or negative.
     let ahead = L::or(zero.ge(k.c), L::or(zero.ge(k.b), t_min.lt(zero)));
     L::and(k.valid, ahead)
+}
+
+/// The larger of `a` and `b`; NaN only if both are (as `f32::max`).
+#[inline(always)]
+fn max_lanes<L: Lanes>(a: L, b: L) -> L {
+    L::select(L::or(a.lt(b), L::not(a.eq(a))), b, a)
+}
+
+/// The largest component of a vector of non-negative lanes.
+#[inline(always)]
+fn max_element_lanes<L: Lanes>(v: V3<L>) -> L {
+    max_lanes(v.x, max_lanes(v.y, v.z))
+}
+
+/// [`Sphere::offset_bound`] per lane.
+#[inline(always)]
+pub(crate) fn offset_bound_lanes<L: Lanes>(s: &SphereLanes<L>) -> L {
+    let c = s.center;
+    let m = max_element_lanes(V3::new(c.x.abs(), c.y.abs(), c.z.abs()));
+    L::splat(SPAWN_OFFSET_ULPS * f32::EPSILON) * (m + s.radius.abs())
+}
+
+/// [`Sphere::spawn_origin_along`] per lane.
+#[inline(always)]
+pub(crate) fn spawn_origin_lanes<L: Lanes>(
+    s: &SphereLanes<L>,
+    n: V3<L>,
+    outside: L::Mask,
+) -> V3<L> {
+    // A sphere smaller than its own rounding at this position: stay
+    // within it rather than jump past its centre.
+    let half = L::splat(0.5) * s.radius;
+    let bound = offset_bound_lanes(s);
+    // min(bound, half), as `f32::min` (a NaN side gives the other).
+    let offset = L::select(L::or(half.lt(bound), L::not(bound.eq(bound))), half, bound);
+    let side = L::select(outside, offset, -offset);
+    s.center + n * (s.radius + side)
+}
+
+/// [`Sphere::unit_normal`] per lane.
+#[inline(always)]
+pub(crate) fn unit_normal_lanes<L: Lanes>(p: V3<L>, center: V3<L>) -> V3<L> {
+    let k1 = L::splat(1.0);
+    let v = p - center;
+    let len2 = v.dot(v);
+    let ordinary = L::and(len2.ge(L::splat(1e-30)), len2.le(L::splat(1e30)));
+    let direct = v * (k1 / len2.sqrt());
+    if L::WIDTH == 1 && L::any(ordinary) {
+        // One lane in range: the scaled form below is not needed.
+        return direct;
+    }
+    // Scale before squaring.
+    let m = max_element_lanes(V3::new(v.x.abs(), v.y.abs(), v.z.abs()));
+    let v = V3::new(v.x / m, v.y / m, v.z / m);
+    let len = v.dot(v).sqrt();
+    let scaled = V3::new(v.x / len, v.y / len, v.z / len);
+    V3::select(ordinary, direct, scaled)
 }
 
 /// The scalar kernel on a ray and a sphere (the brute-force loops' and

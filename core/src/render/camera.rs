@@ -3,7 +3,8 @@
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::mapping::sample_concentric_disk;
+use crate::lanes::{Lanes, V3};
+use crate::mapping::concentric;
 use crate::trace::Ray;
 
 /// Where a camera is and how it sees, as the course states it.
@@ -166,16 +167,33 @@ impl Camera {
     #[inline(always)]
     #[must_use]
     pub fn ray(&self, pixel: UVec2, offset: Vec2, lens: Vec2) -> Ray {
-        let target = self.corner
-            + self.du * (pixel.x as f32 + offset.x)
-            + self.dv * (pixel.y as f32 + offset.y);
+        let (origin, dir) = self.ray_lanes(
+            (pixel.x as f32, pixel.y as f32),
+            (offset.x, offset.y),
+            (lens.x, lens.y),
+        );
+        Ray::new(Vec3::from(origin), Vec3::from(dir))
+    }
+
+    /// [`Camera::ray`] over lanes, from the pixel's corner as floats: the
+    /// origin and unit direction.
+    #[inline(always)]
+    pub(crate) fn ray_lanes<L: Lanes>(
+        &self,
+        pixel: (L, L),
+        offset: (L, L),
+        lens: (L, L),
+    ) -> (V3<L>, V3<L>) {
+        let target = V3::splat(self.corner)
+            + V3::splat(self.du) * (pixel.0 + offset.0)
+            + V3::splat(self.dv) * (pixel.1 + offset.1);
         let origin = if self.pinhole {
-            self.origin
+            V3::splat(self.origin)
         } else {
-            let d = sample_concentric_disk(lens);
-            self.origin + self.lens_u * d.x + self.lens_v * d.y
+            let (_, x, y) = concentric(lens.0, lens.1);
+            V3::splat(self.origin) + V3::splat(self.lens_u) * x + V3::splat(self.lens_v) * y
         };
-        Ray::new(origin, crate::float::normalize(target - origin))
+        (origin, (target - origin).normalize())
     }
 
     /// Whether the lens has radius 0 (a defocus angle of 0), so that

@@ -44,15 +44,18 @@
 //! same hits as single rays.
 
 use super::camera::Camera;
-use super::material::{Lobe, Material, SurfaceHit};
+use super::material::{Lobe, Material, SurfaceHit, SurfaceLanes};
 use super::scene::Scene;
-use super::texture::{TextureFilter, sphere_uv};
+use super::texture::{TextureFilter, sphere_uv_lanes};
 use crate::filter::PixelFilter;
 use crate::float::sqrtf;
-use crate::mapping::{Cone, pdf_uniform_cone, sample_uniform_cone};
-use crate::onb::Onb;
+use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, f32x8, mask_from_bits};
+use crate::mapping::{ConeLanes, uniform_cone, uniform_cone_pdf};
+use crate::onb::OnbLanes;
 use crate::sampler::Sampler;
-use crate::trace::{BvhStack, Hit, Ray, intersect_sphere};
+use crate::trace::{
+    BvhStack, Hit, Ray, RayPacket8, spawn_origin_lanes, sphere_t_live, unit_normal_lanes,
+};
 use glam::{UVec2, Vec2, Vec3};
 
 /// How paths are traced.
@@ -87,29 +90,44 @@ pub struct RenderSettings {
 /// against one with density `b`.
 #[inline]
 #[must_use]
-pub(crate) fn power_heuristic(a: f32, b: f32) -> f32 {
+pub(crate) fn power_heuristic<L: Lanes>(a: L, b: L) -> L {
     let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+    let sum = a2 + b2;
+    L::select(sum.gt(L::splat(0.0)), a2 / sum, L::splat(0.0))
 }
 
 /// The surface record of a hit.
 #[inline(always)]
 fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> SurfaceHit {
     let s = scene.spheres()[hit.sphere as usize];
-    let p = ray.at(hit.t);
-    let outward = s.unit_normal(p);
-    let front_face = ray.dir.dot(outward) < 0.0;
-    SurfaceHit {
+    let surf = surface_lanes(&ray.lanes(), hit.t, &s.lanes(), material.uses_uv());
+    SurfaceHit::from(&surf)
+}
+
+/// [`surface`] over lanes: the record of each lane's hit at `t` on its
+/// sphere.
+#[inline(always)]
+pub(crate) fn surface_lanes<L: Lanes>(
+    ray: &RayLanes<L>,
+    t: L,
+    sphere: &SphereLanes<L>,
+    uses_uv: bool,
+) -> SurfaceLanes<L> {
+    let p = ray.origin + ray.dir * t;
+    let outward = unit_normal_lanes(p, sphere.center);
+    let front_face = ray.dir.dot(outward).lt(L::splat(0.0));
+    let zero = L::splat(0.0);
+    SurfaceLanes {
         p,
-        n: if front_face { outward } else { -outward },
+        n: V3::select(front_face, outward, -outward),
         front_face,
-        footprint: Vec3::ZERO,
+        footprint: V3::splat(Vec3::ZERO),
         // acos and atan2 cost more than the rest of the record; only an
         // image texture reads uv.
-        uv: if material.uses_uv() {
-            sphere_uv(outward)
+        uv: if uses_uv {
+            sphere_uv_lanes(outward)
         } else {
-            Vec2::ZERO
+            (zero, zero)
         },
     }
 }
@@ -119,14 +137,25 @@ fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> S
 /// infinite when a differential ray runs parallel to the tangent plane.
 #[inline]
 fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
-    let offset = |r: &Ray| {
-        let t = surf.n.dot(surf.p - r.origin) / surf.n.dot(r.dir);
-        r.origin + r.dir * t - surf.p
+    let lanes = |r: &Ray| (V3::from(r.origin), V3::from(r.dir));
+    footprint_lanes(&surf.into(), &[lanes(&diff[0]), lanes(&diff[1])]).into()
+}
+
+/// [`footprint`] over lanes, from the differential rays' origins and
+/// directions.
+#[inline(always)]
+pub(crate) fn footprint_lanes<L: Lanes>(
+    surf: &SurfaceLanes<L>,
+    diff: &[(V3<L>, V3<L>); 2],
+) -> V3<L> {
+    let offset = |(origin, dir): &(V3<L>, V3<L>)| {
+        let t = surf.n.dot(surf.p - *origin) / surf.n.dot(*dir);
+        *origin + *dir * t - surf.p
     };
     let (dx, dy) = (offset(&diff[0]), offset(&diff[1]));
-    let v = dx * dx + dy * dy;
-    let w = Vec3::new(sqrtf(v.x), sqrtf(v.y), sqrtf(v.z)) * 0.5;
-    if w.is_finite() { w } else { Vec3::INFINITY }
+    let v = dx.mul_v(dx) + dy.mul_v(dy);
+    let w = V3::new(v.x.sqrt(), v.y.sqrt(), v.z.sqrt()) * L::splat(0.5);
+    V3::select(w.is_finite(), w, V3::splat(Vec3::INFINITY))
 }
 
 /// The density, per steradian, with which direct lighting from `p` picks a
@@ -134,10 +163,15 @@ fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
 #[inline]
 fn light_pdf(scene: &Scene<'_>, p: Vec3, light: u32) -> f32 {
     let s = scene.spheres()[light as usize];
-    match Cone::subtended_by_sphere(crate::float::length(s.center - p), s.radius) {
-        Some(cone) => pdf_uniform_cone(Vec3::Z, cone) / scene.lights().len() as f32,
-        None => 0.0,
-    }
+    light_pdf_lanes(scene, V3::from(p), &s.lanes())
+}
+
+/// [`light_pdf`] over lanes, each lane with its light's sphere.
+#[inline(always)]
+pub(crate) fn light_pdf_lanes<L: Lanes>(scene: &Scene<'_>, p: V3<L>, light: &SphereLanes<L>) -> L {
+    let (cone, ok) = ConeLanes::subtended_by_sphere((light.center - p).length(), light.radius);
+    let pdf = uniform_cone_pdf(V3::splat(Vec3::Z), &cone) / L::splat(scene.lights().len() as f32);
+    L::select(ok, pdf, L::splat(0.0))
 }
 
 /// What rendering traced: counted by the path tracer as it goes, per
@@ -194,34 +228,129 @@ fn direct_light(
     u_choice: f32,
     u_dir: Vec2,
 ) -> Vec3 {
-    let lights = scene.lights();
-    let k = ((u_choice * lights.len() as f32) as usize).min(lights.len() - 1);
-    let light = scene.spheres()[lights[k] as usize];
-    let to_light = light.center - surf.p;
-    let dist = crate::float::length(to_light);
-    let Some(cone) = Cone::subtended_by_sphere(dist, light.radius) else {
-        return Vec3::ZERO;
-    };
-    let local = sample_uniform_cone(u_dir, cone);
-    let wi = Onb::from_normal(to_light / dist).to_world(local);
+    let here = scene.spheres()[hit.sphere as usize].lanes();
     let material = scene.material_of(hit.sphere);
-    let (f_cos, bsdf_pdf) = material.eval(ray.dir, surf, wi);
-    if f_cos == Vec3::ZERO {
-        return Vec3::ZERO;
+    let (l, traced) = direct_light_lanes(
+        scene,
+        stack,
+        material,
+        V3::from(ray.dir),
+        &surf.into(),
+        &here,
+        (u_choice, (u_dir.x, u_dir.y)),
+        true,
+    );
+    *shadow_rays += traced;
+    l.into()
+}
+
+/// What a lane form needs that differs between one lane and eight: the
+/// shadow query (one ray through [`Scene::any_hit_with`], or a packet
+/// through [`Scene::any_hit_x8_with`], which answers each lane as the
+/// one-ray query does).
+pub(crate) trait Occlusion: Lanes {
+    /// Which `live` lanes' rays are blocked; the others' answers are
+    /// unspecified.
+    fn occluded(
+        scene: &Scene<'_>,
+        rays: &RayLanes<Self>,
+        live: Self::Mask,
+        stack: &mut BvhStack,
+    ) -> Self::Mask;
+}
+
+impl Occlusion for f32 {
+    #[inline(always)]
+    fn occluded(scene: &Scene<'_>, r: &RayLanes<f32>, live: bool, stack: &mut BvhStack) -> bool {
+        let ray = Ray::new(Vec3::from(r.origin), Vec3::from(r.dir)).with_range(r.t_min, r.t_max);
+        live && scene.any_hit_with(&ray, stack)
+    }
+}
+
+impl Occlusion for f32x8 {
+    #[inline(always)]
+    fn occluded(
+        scene: &Scene<'_>,
+        r: &RayLanes<f32x8>,
+        live: f32x8,
+        stack: &mut BvhStack,
+    ) -> f32x8 {
+        let packet = RayPacket8::from_lanes(r, live);
+        mask_from_bits(scene.any_hit_x8_with(&packet, stack) as u8)
+    }
+}
+
+/// Next-event estimation at each `live` lane's vertex: one light chosen
+/// by `u.0`, a direction in the cone its sphere subtends drawn from
+/// `u.1`, the material's `f cos θ` there, and a shadow ray that stops at
+/// the light, MIS-weighted against BSDF sampling by the power heuristic.
+/// Returns the radiance (zero in dead lanes) and the shadow rays traced.
+/// `material` is every lane's; `here` each lane's sphere.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn direct_light_lanes<L: Occlusion>(
+    scene: &Scene<'_>,
+    stack: &mut BvhStack,
+    material: &Material<'_>,
+    d: V3<L>,
+    surf: &SurfaceLanes<L>,
+    here: &SphereLanes<L>,
+    u: (L, (L, L)),
+    live: L::Mask,
+) -> (V3<L>, u32) {
+    let zero = V3::splat(Vec3::ZERO);
+    let lights = scene.lights();
+    let n = lights.len();
+    let choice = u.0 * L::splat(n as f32);
+    let light_of = |k: usize| lights[(choice.lane(k) as usize).min(n - 1)];
+    let light = SphereLanes {
+        center: V3::from_fn(|k| scene.spheres()[light_of(k) as usize].center),
+        radius: L::from_fn(|k| scene.spheres()[light_of(k) as usize].radius),
+    };
+    let to_light = light.center - surf.p;
+    let dist = to_light.length();
+    let (cone, ok) = ConeLanes::subtended_by_sphere(dist, light.radius);
+    let live = L::and(live, ok);
+    if !L::any(live) {
+        return (zero, 0);
+    }
+    let local = uniform_cone(u.1.0, u.1.1, &cone);
+    let wi = OnbLanes::from_normal(to_light.div(dist)).to_world(local);
+    let (f_cos, bsdf_pdf) = material.eval_lanes(d, surf, wi);
+    let live = L::and(live, L::not(f_cos.is_zero()));
+    if !L::any(live) {
+        return (zero, 0);
     }
     // The shadow ray leaves on the side the shading normal faces.
-    let here = scene.spheres()[hit.sphere as usize];
-    let shadow = Ray::new(here.spawn_origin_along(surf.outward(), surf.front_face), wi);
-    let Some(t_light) = intersect_sphere(&light, &shadow) else {
-        return Vec3::ZERO; // grazed the rim by rounding
+    let origin = spawn_origin_lanes(here, surf.outward(), surf.front_face);
+    let inf = L::splat(f32::INFINITY);
+    let shadow = RayLanes {
+        origin,
+        dir: wi,
+        t_min: L::splat(0.0),
+        t_max: inf,
     };
-    *shadow_rays += 1;
-    if scene.any_hit_with(&shadow.with_range(0.0, t_light), stack) {
-        return Vec3::ZERO;
+    let t_light = sphere_t_live(&shadow, &light, live);
+    // A ray that grazes the light's rim by rounding misses it: no shadow ray.
+    let live = L::and(live, t_light.lt(inf));
+    if !L::any(live) {
+        return (zero, 0);
     }
-    let pdf = pdf_uniform_cone(local, cone) / lights.len() as f32;
-    let emit = scene.material_of(lights[k]).emitted();
-    f_cos * emit * (power_heuristic(pdf, bsdf_pdf) / pdf)
+    let traced = L::count(live);
+    let blocked = L::occluded(
+        scene,
+        &RayLanes {
+            t_max: t_light,
+            ..shadow
+        },
+        live,
+        stack,
+    );
+    let live = L::and(live, L::not(blocked));
+    let pdf = uniform_cone_pdf(local, &cone) / L::splat(n as f32);
+    let emit = V3::from_fn(|k| scene.material_of(light_of(k)).emitted());
+    let l = f_cos.mul_v(emit) * (power_heuristic(pdf, bsdf_pdf) / pdf);
+    (V3::select(live, l, zero), traced)
 }
 
 /// The dimensions a camera sample takes before its path's first vertex:

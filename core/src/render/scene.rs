@@ -3,6 +3,8 @@
 
 use glam::Vec3;
 
+use crate::lanes::{Lanes, V3};
+
 use super::material::{Material, MaterialError};
 use crate::trace::{
     Bvh, BvhError, BvhNode8, BvhStack, BvhStorage, Hit, HitPacket8, Ray, RayPacket8, Sphere,
@@ -34,11 +36,19 @@ impl Background {
     #[must_use]
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
         match self {
+            Background::Sky | Background::Flat(_) => self.radiance_lanes(V3::from(dir)).into(),
+        }
+    }
+
+    /// [`Background::radiance`] over lanes.
+    #[inline(always)]
+    pub(crate) fn radiance_lanes<L: Lanes>(&self, dir: V3<L>) -> V3<L> {
+        match self {
             Background::Sky => {
-                let a = 0.5 * (dir.y + 1.0);
-                Vec3::ONE * (1.0 - a) + Vec3::new(0.5, 0.7, 1.0) * a
+                let a = L::splat(0.5) * (dir.y + L::splat(1.0));
+                V3::splat(Vec3::ONE) * (L::splat(1.0) - a) + V3::splat(Vec3::new(0.5, 0.7, 1.0)) * a
             }
-            Background::Flat(c) => *c,
+            Background::Flat(c) => V3::splat(*c),
         }
     }
 }

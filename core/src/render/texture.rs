@@ -190,7 +190,12 @@ impl Texture<'_> {
     /// the texture lane by lane (a checker's box average is taken in
     /// `f64`, an image's texel fetched).
     #[inline(always)]
-    pub(crate) fn filtered_lanes<L: Lanes>(&self, uv: (L, L), p: V3<L>, half_width: V3<L>) -> V3<L> {
+    pub(crate) fn filtered_lanes<L: Lanes>(
+        &self,
+        uv: (L, L),
+        p: V3<L>,
+        half_width: V3<L>,
+    ) -> V3<L> {
         if let Texture::Solid(c) = self {
             return V3::splat(*c);
         }

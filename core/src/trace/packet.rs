@@ -375,6 +375,22 @@ impl RayPacket8 {
         }
     }
 
+    /// A packet of these rays, active where `active` is set.
+    #[inline(always)]
+    pub(crate) fn from_lanes(r: &RayLanes<f32x8>, active: f32x8) -> Self {
+        Self {
+            ox: r.origin.x,
+            oy: r.origin.y,
+            oz: r.origin.z,
+            dx: r.dir.x,
+            dy: r.dir.y,
+            dz: r.dir.z,
+            t_min: r.t_min,
+            t_max: r.t_max,
+            active,
+        }
+    }
+
     /// A packet of up to eight rays: lane `k` holds `rays[k]`; lanes past
     /// the end (and every lane past the eighth ray, which is ignored) are
     /// inactive and hold a zero ray.

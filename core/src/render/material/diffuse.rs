@@ -6,7 +6,9 @@ use core::f32::consts::FRAC_1_PI;
 
 use glam::Vec3;
 
-use super::{BsdfLanes, Feed, MaterialError, Shading, SurfaceLanes, check, non_negative, texture_ok};
+use super::{
+    BsdfLanes, Feed, MaterialError, Shading, SurfaceLanes, check, non_negative, texture_ok,
+};
 use crate::lanes::{Lanes, V3};
 use crate::mapping::{cosine_hemisphere, cosine_hemisphere_pdf};
 use crate::onb::OnbLanes;

@@ -64,8 +64,8 @@ impl<'a> CookTorrance<'a> {
         let cos_h = n.dot(h);
         let g = smith_g1(cos_v, alpha) * smith_g1(s.cos_l, alpha);
         let f = schlick(s.v.dot(h), L::splat(r0_of(self.ior)));
-        let spec = L::splat(self.ks) * ggx(cos_h, alpha) * g * f
-            / (L::splat(4.0) * cos_v * s.cos_l);
+        let spec =
+            L::splat(self.ks) * ggx(cos_h, alpha) * g * f / (L::splat(4.0) * cos_v * s.cos_l);
         let spec = L::select(L::and(cos_v.gt(z), cos_h.gt(z)), spec, z);
         diffuse::base(s.albedo(&self.albedo), self.kd) + V3::new(spec, spec, spec)
     }

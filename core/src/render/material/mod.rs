@@ -598,7 +598,8 @@ impl<'a> Material<'a> {
     #[inline]
     #[must_use]
     pub fn brdf(&self, d: Vec3, hit: &SurfaceHit, wi: Vec3) -> Vec3 {
-        self.brdf_lanes(V3::from(d), &hit.into(), V3::from(wi)).into()
+        self.brdf_lanes(V3::from(d), &hit.into(), V3::from(wi))
+            .into()
     }
 
     /// [`Material::brdf`] over lanes.

@@ -95,7 +95,12 @@ impl Specular {
 /// Glass: reflects when `u_lobe` falls under Schlick's reflectance (always
 /// under total internal reflection), else refracts by Snell's law.
 #[inline(always)]
-fn refract_or_reflect<L: Lanes>(d: V3<L>, hit: &SurfaceLanes<L>, ior: f32, u_lobe: L) -> BsdfLanes<L> {
+fn refract_or_reflect<L: Lanes>(
+    d: V3<L>,
+    hit: &SurfaceLanes<L>,
+    ior: f32,
+    u_lobe: L,
+) -> BsdfLanes<L> {
     let (k1, n) = (L::splat(1.0), hit.n);
     let eta = L::select(hit.front_face, L::splat(1.0 / ior), L::splat(ior));
     let cos_i = (-d.dot(n)).clamp_to(f32::NEG_INFINITY, 1.0);
