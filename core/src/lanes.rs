@@ -159,6 +159,20 @@ impl Lanes for f32 {
     fn count(mask: bool) -> u32 {
         u32::from(mask)
     }
+    // The trait's bit forms, by the instructions that do them on a float
+    // register (the same bits: each clears, tests or copies the sign bit).
+    #[inline(always)]
+    fn abs(self) -> f32 {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn sign_bit(self) -> bool {
+        self.is_sign_negative()
+    }
+    #[inline(always)]
+    fn copysign(self, sign: f32) -> f32 {
+        f32::copysign(self, sign)
+    }
     #[inline(always)]
     fn splat(x: f32) -> Self {
         x

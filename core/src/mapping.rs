@@ -347,19 +347,12 @@ pub(crate) fn concentric<L: Lanes>(u0: L, u1: L) -> (L, L, L) {
     // a branch on a coin flip is mispredicted half the time.
     let wide = a.abs().gt(b.abs());
     let (r, q) = (L::select(wide, a, b), L::select(wide, b, a));
-    let (sin, cos) = sin_cos_pi_quarter(L::splat(0.25) * (q / r));
+    // |q| ≤ |r|, so r is 0 only at the centre, 0/0; there q/1 = 0 maps it
+    // to itself (r = +0, sin 0 = 0, cos 0 = 1).
+    let ratio = q / L::select(r.eq(zero), k1, r);
+    let (sin, cos) = sin_cos_pi_quarter(L::splat(0.25) * ratio);
     let (x, y) = (L::select(wide, cos, sin), L::select(wide, sin, cos));
-    // The centre (0/0 above) maps to itself.
-    let centre = L::and(a.eq(zero), b.eq(zero));
-    let (r, x, y) = (r.abs(), r * x, r * y);
-    if !L::any(centre) {
-        return (r, x, y);
-    }
-    (
-        L::select(centre, zero, r),
-        L::select(centre, zero, x),
-        L::select(centre, zero, y),
-    )
+    (r.abs(), r * x, r * y)
 }
 
 /// The density of [`sample_concentric_disk`]: `1 / π` per unit area inside

@@ -38,17 +38,22 @@ pub(crate) fn sin_cos_turn<L: Lanes>(u: L) -> (L, L) {
     // mode needed.
     const ROUND: f32 = 12_582_912.0;
     let v = L::splat(4.0) * u;
-    let q = (v + L::splat(ROUND)) - L::splat(ROUND);
+    let t = v + L::splat(ROUND);
+    let q = t - L::splat(ROUND);
     let (s, c) = sin_cos_pi_quarter((v - q) * L::splat(0.5));
     // Quarter turn q mod 4 rotates (s, c) to (s, c), (c, −s), (−s, −c),
     // (−c, s): odd q swaps them; bit 1 negates the sine, bit 0 xor bit 1
-    // the cosine (sign flips by xor: the same bits as negation).
-    let q = q.to_int();
+    // the cosine (sign flips by xor: the same bits as negation). q + 1.5·2²³
+    // is an integer in t's mantissa, and 1.5·2²³ ≡ 0 (mod 4), so q's low
+    // bits are t's: no conversion to an integer.
+    let q = t.to_bits();
     let one = L::splat_int(1);
     let swap = L::int_eq(q & one, one);
     let (a, b) = (L::select(swap, c, s), L::select(swap, s, c));
-    let sin = L::from_bits(a.to_bits() ^ ((q & L::splat_int(2)) << 30));
-    let cos = L::from_bits(b.to_bits() ^ (((q ^ (q >> 1)) & one) << 31));
+    let neg_sin = L::int_eq(q & L::splat_int(2), L::splat_int(2));
+    let neg_cos = L::int_eq((q ^ (q >> 1)) & one, one);
+    let sin = L::select(neg_sin, -a, a);
+    let cos = L::select(neg_cos, -b, b);
     (sin, cos)
 }
 
