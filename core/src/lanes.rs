@@ -99,8 +99,6 @@ pub(crate) trait Lanes:
     /// Lanes from a value per lane: what a lane form uses for what stays
     /// per lane (a texel fetch, a sphere's parameters).
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
-    /// Whether lane `k` of the mask is set.
-    fn mask_lane(mask: Self::Mask, k: usize) -> bool;
     /// `b` in every lane of a mask.
     fn mask_splat(b: bool) -> Self::Mask;
     /// The number of lanes set.
@@ -146,10 +144,6 @@ impl Lanes for f32 {
     #[inline(always)]
     fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
         f(0)
-    }
-    #[inline(always)]
-    fn mask_lane(mask: bool, _: usize) -> bool {
-        mask
     }
     #[inline(always)]
     fn mask_splat(b: bool) -> bool {
@@ -266,10 +260,6 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
         f32x8::new(core::array::from_fn(f))
-    }
-    #[inline(always)]
-    fn mask_lane(mask: f32x8, k: usize) -> bool {
-        lanes_bitmask(mask) >> k & 1 == 1
     }
     #[inline(always)]
     fn mask_splat(b: bool) -> f32x8 {

@@ -193,7 +193,7 @@ impl<L: Lanes> OnbLanes<L> {
 
     /// [`Onb::to_world`] per lane.
     #[inline(always)]
-    pub(crate) fn to_world(&self, d: V3<L>) -> V3<L> {
+    pub(crate) fn to_world(self, d: V3<L>) -> V3<L> {
         self.u * d.x + self.v * d.y + self.w * d.z
     }
 }

@@ -27,6 +27,8 @@ pub mod adaptive;
 pub mod camera;
 pub mod film;
 pub mod integrator;
+#[cfg(test)]
+mod lanes_check;
 pub mod material;
 pub mod scene;
 pub mod splat;

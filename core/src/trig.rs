@@ -85,7 +85,7 @@ pub(crate) fn sin_cos_pi<L: Lanes>(x: L) -> (L, L) {
 fn asin_small<L: Lanes>(x: L) -> L {
     let k = L::splat;
     let z = x * x;
-    let p = (((k(4.216_32e-2) * z + k(2.418_131_1e-2)) * z + k(4.547_002_6e-2)) * z
+    let p = (((k(4.216_32e-2) * z + k(2.418_131e-2)) * z + k(4.547_002_6e-2)) * z
         + k(7.495_300_3e-2))
         * z
         + k(1.666_675_2e-1);
