@@ -32,7 +32,7 @@
 //! would weight a strategy whose twin is never traced.)
 //!
 //! **Direct lighting** picks one light uniformly, samples the cone its
-//! sphere subtends ([`sample_uniform_cone`]), and traces a shadow ray
+//! sphere subtends ([`sample_uniform_cone`](crate::mapping::sample_uniform_cone)), and traces a shadow ray
 //! ([`Scene::any_hit`]) that stops at the light: one blocker is enough and
 //! nothing beyond the light counts (the course's D1 counted hits). BSDF
 //! samples that hit a light are weighted against it by the power
