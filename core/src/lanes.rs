@@ -19,9 +19,16 @@
 //! `clippy.toml` bans `wide`'s fused and approximate operations
 //! everywhere.
 //!
+//! Shading is written over [`Lanes`] too: `trig` and `pow`, the
+//! mappings, the basis, every material, the camera ray, the surface
+//! record and next-event estimation (`render::lanes_check` tests each
+//! lane of eight against the one-lane form the scalar integrator runs).
+//!
 //! A kernel generic over [`Lanes`] performs the same IEEE operations in the
 //! same order for one lane and for eight, so the scalar reference and its
-//! SIMD twin return the same bits by construction. Only operations that are
+//! SIMD twin return the same bits by construction. A branch where lanes
+//! could part is a select; a rare special case may sit behind a test of
+//! every lane (`if L::any(mask)`), which one lane takes as a plain branch. Only operations that are
 //! exact per lane on every x86-64 level are exposed: `+ − × ÷ √`,
 //! comparisons and selects, bit casts, integer `+ − & | ^ << >>`, and the
 //! conversions between integers and floats (truncating, saturating with

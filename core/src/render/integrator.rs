@@ -38,6 +38,13 @@
 //! samples that hit a light are weighted against it by the power
 //! heuristic, so no emission is counted twice (the course's D7).
 //!
+//! **One path or eight.** Every step of a vertex (the camera ray, the
+//! surface record and footprint, the material's sampling and evaluation,
+//! the light's cone and density, next-event estimation and its shadow
+//! query) is written once over the crate's lanes type, `f32` or `f32x8`;
+//! this loop runs the one-lane form, so an eight-path loop over the same
+//! functions gives each path these bits (tested lane by lane).
+//!
 //! A sample's radiance depends only on (scene, camera, sampler, seed,
 //! pixel, index): [`render_tile`](super::render_tile) gives every pixel the same bits whatever
 //! the tile, the order or the thread, and camera-ray packets return the
