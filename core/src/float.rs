@@ -62,14 +62,14 @@ pub(crate) fn floor_i64(q: f32) -> i64 {
 /// `|v|`, with the bits of glam's `Vec3::length`.
 #[inline(always)]
 pub(crate) fn length(v: Vec3) -> f32 {
-    sqrtf(v.dot(v))
+    crate::lanes::V3::<f32>::from(v).length()
 }
 
 /// `v / |v|`, with the bits of glam's `Vec3::normalize` (non-finite for a
 /// zero or non-finite `v`).
 #[inline(always)]
 pub(crate) fn normalize(v: Vec3) -> Vec3 {
-    v * (1.0 / length(v))
+    crate::lanes::V3::<f32>::from(v).normalize().into()
 }
 
 #[cfg(test)]

@@ -603,18 +603,24 @@ pub(crate) fn uniform_cone<L: Lanes>(u0: L, u1: L, cone: &ConeLanes<L>) -> V3<L>
     V3::new(sin_theta * cos, sin_theta * sin, L::splat(1.0) - omz)
 }
 
+/// `1 − w_z`, from `w_x² + w_y²` in the upper half, where the
+/// subtraction would cancel.
+#[inline(always)]
+fn one_minus_z<L: Lanes>(w: V3<L>) -> L {
+    let k1 = L::splat(1.0);
+    L::select(
+        w.z.gt(L::splat(0.0)),
+        (w.x * w.x + w.y * w.y) / (k1 + w.z),
+        k1 - w.z,
+    )
+}
+
 /// [`pdf_uniform_cone`] over lanes.
 #[inline(always)]
 pub(crate) fn uniform_cone_pdf<L: Lanes>(w: V3<L>, cone: &ConeLanes<L>) -> L {
     const SLACK: f32 = 1.0 + 1.0 / 1_048_576.0;
-    let k1 = L::splat(1.0);
-    let one_minus_z = L::select(
-        w.z.gt(L::splat(0.0)),
-        (w.x * w.x + w.y * w.y) / (k1 + w.z),
-        k1 - w.z,
-    );
     let inside = L::and(
-        one_minus_z.le(cone.one_minus_cos * L::splat(SLACK)),
+        one_minus_z(w).le(cone.one_minus_cos * L::splat(SLACK)),
         not_nan(w),
     );
     L::select(
@@ -622,15 +628,6 @@ pub(crate) fn uniform_cone_pdf<L: Lanes>(w: V3<L>, cone: &ConeLanes<L>) -> L {
         L::splat(INV_2PI) / cone.one_minus_cos,
         L::splat(0.0),
     )
-}
-
-#[inline]
-fn one_minus_z(w: Vec3) -> f32 {
-    if w.z > 0.0 {
-        (w.x * w.x + w.y * w.y) / (1.0 + w.z)
-    } else {
-        1.0 - w.z
-    }
 }
 
 /// A direction uniform in a [`Cone`] around `+z`: `1 − cos θ = u₀ (1 −
@@ -675,7 +672,7 @@ pub fn pdf_uniform_cone(w: Vec3, cone: Cone) -> f32 {
 #[must_use]
 pub fn invert_uniform_cone(w: Vec3, cone: Cone) -> Vec2 {
     let u0 = if cone.one_minus_cos > 0.0 {
-        one_minus_z(w) / cone.one_minus_cos
+        one_minus_z(V3::from(w)) / cone.one_minus_cos
     } else {
         0.0
     };
