@@ -396,19 +396,30 @@ impl<L: Lanes> V3<L> {
         Vec3::new(self.x.lane(k), self.y.lane(k), self.z.lane(k))
     }
 
-    /// A vector per lane.
+    /// A vector per lane: `f` runs once for each lane, in lane order.
     #[inline(always)]
     pub(crate) fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
         if L::WIDTH == 1 {
-            // One lane: one call, not three.
-            let v = f(0);
-            return Self::splat(v);
+            return Self::splat(f(0));
         }
+        debug_assert!(L::WIDTH <= 8);
+        let v: [Vec3; 8] = core::array::from_fn(|k| if k < L::WIDTH { f(k) } else { Vec3::ZERO });
         Self::new(
-            L::from_fn(|k| f(k).x),
-            L::from_fn(|k| f(k).y),
-            L::from_fn(|k| f(k).z),
+            L::from_fn(|k| v[k].x),
+            L::from_fn(|k| v[k].y),
+            L::from_fn(|k| v[k].z),
         )
+    }
+
+    /// `v / |v|` for any finite non-zero `v`, however tiny or huge:
+    /// divided by its largest magnitude first, so squaring cannot
+    /// overflow or underflow (NaN where `v` is zero or not finite).
+    #[inline(always)]
+    pub(crate) fn normalize_scaled(self) -> Self {
+        let (x, y, z) = (self.x.abs(), self.y.abs(), self.z.abs());
+        let m = max_lanes(x, max_lanes(y, z));
+        let s = self.div(m);
+        s.div(s.dot(s).sqrt())
     }
 
     /// `if mask { a } else { b }` per lane.
@@ -521,6 +532,12 @@ impl<L: Lanes> Mul<L> for V3<L> {
     }
 }
 
+/// The larger of `a` and `b`; NaN only if both are (as `f32::max`).
+#[inline(always)]
+pub(crate) fn max_lanes<L: Lanes>(a: L, b: L) -> L {
+    L::select(L::or(a.lt(b), L::not(a.eq(a))), b, a)
+}
+
 /// A ray in lanes: origin, unit direction, and the open interval
 /// `(t_min, t_max)` of distances it takes hits in.
 #[derive(Clone, Copy, Debug)]
@@ -529,6 +546,15 @@ pub(crate) struct RayLanes<L> {
     pub(crate) dir: V3<L>,
     pub(crate) t_min: L,
     pub(crate) t_max: L,
+}
+
+impl<L: Lanes> RayLanes<L> {
+    /// The point at parameter `t`: `origin + t · dir` (no fused
+    /// multiply-add).
+    #[inline(always)]
+    pub(crate) fn at(&self, t: L) -> V3<L> {
+        self.origin + self.dir * t
+    }
 }
 
 /// A sphere in lanes: centre and radius.
@@ -619,20 +645,6 @@ pub(crate) fn mask_from_i32(mask: i32x8) -> f32x8 {
     wide::bytemuck::cast(mask)
 }
 
-/// The lanes whose sign bit is set (`-0.0` and negative NaNs included).
-#[inline(always)]
-pub(crate) fn mask_sign(v: f32x8) -> f32x8 {
-    let bits: i32x8 = wide::bytemuck::cast(v);
-    mask_from_i32(lanes_lt_i32(bits, i32x8::splat(0)))
-}
-
-/// `|v|` per lane by clearing the sign bit: exact on every level.
-#[inline(always)]
-pub(crate) fn lanes_abs(v: f32x8) -> f32x8 {
-    let bits: i32x8 = wide::bytemuck::cast(v);
-    wide::bytemuck::cast(bits & i32x8::splat(i32::MAX))
-}
-
 /// Test inputs of every class a lane function must treat alike in both
 /// forms, and the check that it does.
 #[cfg(test)]
@@ -679,6 +691,23 @@ pub(crate) mod classes {
             -150.0,
             -150.5,
             -126.5,
+            // exp2's exponent boundaries, acos's switch at ½, the end of
+            // sin_cos_turn's exact reduction, and the integer range.
+            -151.0,
+            -149.0,
+            -127.0,
+            -126.0,
+            127.0,
+            f32::from_bits(0.5f32.to_bits() + 1),
+            f32::from_bits(0.5f32.to_bits() - 1),
+            -f32::from_bits(0.5f32.to_bits() + 1),
+            f32::from_bits(1_048_576.0f32.to_bits() + 1),
+            f32::from_bits(1_048_576.0f32.to_bits() - 1),
+            4_194_304.0,
+            2_147_483_648.0,
+            -2_147_483_648.0,
+            2_147_483_520.0,
+            -2_147_483_904.0,
         ];
         for k in -40..=40 {
             v.push(k as f32 * 0.061_3);
@@ -739,5 +768,47 @@ pub(crate) mod classes {
                 );
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bit and integer operations agree between the forms, and with
+    /// Rust's own (`as`, `copysign`, `is_sign_negative`, `abs`).
+    #[test]
+    fn bit_and_integer_operations_match_rust_and_each_other() {
+        let to_int = |x: f32| f32::from_bits(Lanes::to_int(x) as u32);
+        let to_int8 = |x: f32x8| <f32x8 as Lanes>::from_bits(Lanes::to_int(x));
+        classes::same_bits_1("to_int", to_int, to_int8);
+        let round_trip = |x: f32| f32::from_int(Lanes::to_int(x));
+        let round_trip8 = |x: f32x8| f32x8::from_int(Lanes::to_int(x));
+        classes::same_bits_1("from_int", round_trip, round_trip8);
+        classes::same_bits_1("abs", Lanes::abs, <f32x8 as Lanes>::abs);
+        let sign = |x: f32| if Lanes::sign_bit(x) { 1.0 } else { 0.0 };
+        let sign8 = |x: f32x8| f32x8::select(Lanes::sign_bit(x), f32x8::splat(1.0), f32x8::ZERO);
+        classes::same_bits_1("sign_bit", sign, sign8);
+        classes::same_bits_2("copysign", Lanes::copysign, <f32x8 as Lanes>::copysign);
+        classes::same_bits_1(
+            "clamp_to",
+            |x| x.clamp_to(-1.0, 2.0),
+            |x: f32x8| x.clamp_to(-1.0, 2.0),
+        );
+        for x in classes::inputs() {
+            assert_eq!(Lanes::to_int(x), x as i32, "{x:e}");
+            assert_eq!(Lanes::abs(x).to_bits(), x.abs().to_bits(), "{x:e}");
+            assert_eq!(Lanes::sign_bit(x), x.is_sign_negative(), "{x:e}");
+            let wide = <f32x8 as Lanes>::to_int(f32x8::splat(x)).to_array();
+            assert!(wide.iter().all(|&i| i == x as i32), "{x:e}");
+            for s in [1.0f32, -1.0, -0.0, f32::NAN, -f32::NAN] {
+                let bits = <f32x8 as Lanes>::copysign(f32x8::splat(x), f32x8::splat(s)).lane(5);
+                assert_eq!(bits.to_bits(), x.copysign(s).to_bits(), "{x:e} {s}");
+            }
+        }
+        // The conversions saturate, and NaN goes to 0.
+        assert_eq!(Lanes::to_int(3e9f32), i32::MAX);
+        assert_eq!(Lanes::to_int(-3e9f32), i32::MIN);
+        assert_eq!(Lanes::to_int(f32::NAN), 0);
     }
 }

@@ -331,10 +331,8 @@ pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     Vec2::new(x, y)
 }
 
-/// The concentric map's point and its radius `|r|` (taken as it is, not
-/// from the rounded point).
-/// The concentric map of `(u0, u1)`: `(r, x, y)`, the radius and the
-/// point.
+/// The concentric map of `(u0, u1)`: its radius `|r|` (taken as it is,
+/// not from the rounded point) and the point `(x, y)`.
 #[inline(always)]
 pub(crate) fn concentric<L: Lanes>(u0: L, u1: L) -> (L, L, L) {
     let (k1, k2, zero) = (L::splat(1.0), L::splat(2.0), L::splat(0.0));
@@ -559,8 +557,6 @@ impl Cone {
     }
 }
 
-/// `1 − z` of a unit direction without cancellation near the pole:
-/// `(x² + y²) / (1 + z)` where `z > 0`.
 /// [`Cone`] over lanes: one cone per lane.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ConeLanes<L> {
@@ -603,8 +599,8 @@ pub(crate) fn uniform_cone<L: Lanes>(u0: L, u1: L, cone: &ConeLanes<L>) -> V3<L>
     V3::new(sin_theta * cos, sin_theta * sin, L::splat(1.0) - omz)
 }
 
-/// `1 − w_z`, from `w_x² + w_y²` in the upper half, where the
-/// subtraction would cancel.
+/// `1 − z` of a unit direction without cancellation near the pole:
+/// `(x² + y²) / (1 + z)` where `z > 0`.
 #[inline(always)]
 fn one_minus_z<L: Lanes>(w: V3<L>) -> L {
     let k1 = L::splat(1.0);

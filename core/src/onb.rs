@@ -44,15 +44,10 @@ pub struct Onb {
 /// overflows. `None` for a zero or non-finite vector.
 #[inline]
 fn robust_normalize(v: Vec3) -> Option<Vec3> {
-    if !v.is_finite() {
+    if !v.is_finite() || v == Vec3::ZERO {
         return None;
     }
-    let m = v.abs().max_element();
-    if m == 0.0 {
-        return None;
-    }
-    let s = v / m;
-    Some(s / crate::float::sqrtf(s.length_squared()))
+    Some(V3::<f32>::from(v).normalize_scaled().into())
 }
 
 impl Onb {

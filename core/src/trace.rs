@@ -115,7 +115,7 @@ use glam::Vec3;
 mod bvh;
 mod packet;
 
-use crate::lanes::{Lanes, RayLanes, SphereLanes, V3};
+use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, max_lanes};
 pub use bvh::{
     Aabb, BVH_MAX_COORDINATE, BVH_MAX_DEPTH, BVH_MAX_SPHERES, BVH_MIN_SPHERES, BVH_SLACK_ULPS, Bvh,
     BvhError, BvhNode8, BvhStack, BvhStorage, PrimitiveBvh, PrimitiveHit, Primitives,
@@ -204,7 +204,7 @@ impl Ray {
     #[inline]
     #[must_use]
     pub fn at(&self, t: f32) -> Vec3 {
-        self.origin + self.dir * t
+        self.lanes().at(t).into()
     }
 }
 
@@ -508,23 +508,11 @@ pub(crate) fn may_hit<L: Lanes>(k: &Quadratic<L>, t_min: L) -> L::Mask {
     L::and(k.valid, ahead)
 }
 
-/// The larger of `a` and `b`; NaN only if both are (as `f32::max`).
-#[inline(always)]
-fn max_lanes<L: Lanes>(a: L, b: L) -> L {
-    L::select(L::or(a.lt(b), L::not(a.eq(a))), b, a)
-}
-
-/// The largest component of a vector of non-negative lanes.
-#[inline(always)]
-fn max_element_lanes<L: Lanes>(v: V3<L>) -> L {
-    max_lanes(v.x, max_lanes(v.y, v.z))
-}
-
 /// [`Sphere::offset_bound`] per lane.
 #[inline(always)]
 pub(crate) fn offset_bound_lanes<L: Lanes>(s: &SphereLanes<L>) -> L {
     let c = s.center;
-    let m = max_element_lanes(V3::new(c.x.abs(), c.y.abs(), c.z.abs()));
+    let m = max_lanes(c.x.abs(), max_lanes(c.y.abs(), c.z.abs()));
     L::splat(SPAWN_OFFSET_ULPS * f32::EPSILON) * (m + s.radius.abs())
 }
 
@@ -553,15 +541,11 @@ pub(crate) fn unit_normal_lanes<L: Lanes>(p: V3<L>, center: V3<L>) -> V3<L> {
     let len2 = v.dot(v);
     let ordinary = L::and(len2.ge(L::splat(1e-30)), len2.le(L::splat(1e30)));
     let direct = v * (k1 / len2.sqrt());
-    if L::WIDTH == 1 && L::any(ordinary) {
-        // One lane in range: the scaled form below is not needed.
+    if !L::any(L::not(ordinary)) {
         return direct;
     }
     // Scale before squaring.
-    let m = max_element_lanes(V3::new(v.x.abs(), v.y.abs(), v.z.abs()));
-    let v = V3::new(v.x / m, v.y / m, v.z / m);
-    let len = v.dot(v).sqrt();
-    let scaled = V3::new(v.x / len, v.y / len, v.z / len);
+    let scaled = v.normalize_scaled();
     V3::select(ordinary, direct, scaled)
 }
 

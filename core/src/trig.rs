@@ -1,9 +1,10 @@
 //! Sines and cosines of the sampling mappings and of Lanczos's filter
-//! taps, as short sequences of
-//! plain `f32` multiplies and adds: the same bits on every CPU (no fused
-//! multiply-add, no table, no hardware approximation), for a fraction of a
-//! libm call. Every mapping angle is a fraction of a turn or of `π`, so
-//! the range reduction is exact.
+//! taps, and the arc cosine and arc tangent of sphere texture
+//! coordinates, as short sequences of plain IEEE operations over
+//! [`Lanes`] (one `f32` or eight): the same bits on every CPU and in both
+//! forms (no fused multiply-add, no table, no hardware approximation), for
+//! a fraction of a libm call. Every mapping angle is a fraction of a turn
+//! or of `π`, so the range reduction is exact.
 
 use crate::lanes::Lanes;
 
@@ -64,6 +65,7 @@ pub(crate) fn sin_cos_turn<L: Lanes>(u: L) -> (L, L) {
 /// [`sin_cos_pi_quarter`], shorter on its narrower range.)
 #[inline]
 pub(crate) fn sin_cos_pi<L: Lanes>(x: L) -> (L, L) {
+    debug_assert!((0..L::WIDTH).all(|k| x.lane(k).abs() <= 0.5));
     let k = L::splat;
     let x2 = x * x;
     let sin = x
@@ -154,12 +156,17 @@ mod tests {
         classes::same_bits_1("sin_turn", sin, |x: f32x8| sin_cos_turn(x).0);
         let cos = |x: f32| sin_cos_turn(x).1;
         classes::same_bits_1("cos_turn", cos, |x: f32x8| sin_cos_turn(x).1);
-        let q = |x: f32| sin_cos_pi_quarter(x).0 + sin_cos_pi_quarter(x).1 * 3.0;
-        let qw = |x: f32x8| sin_cos_pi_quarter(x).0 + sin_cos_pi_quarter(x).1 * f32x8::splat(3.0);
-        classes::same_bits_1("sin_cos_pi_quarter", q, qw);
-        let p = |x: f32| sin_cos_pi(x).0 + sin_cos_pi(x).1 * 3.0;
-        let pw = |x: f32x8| sin_cos_pi(x).0 + sin_cos_pi(x).1 * f32x8::splat(3.0);
-        classes::same_bits_1("sin_cos_pi", p, pw);
+        let q0 = |x: f32| sin_cos_pi_quarter(x).0;
+        classes::same_bits_1("sin_pi_quarter", q0, |x: f32x8| sin_cos_pi_quarter(x).0);
+        let q1 = |x: f32| sin_cos_pi_quarter(x).1;
+        classes::same_bits_1("cos_pi_quarter", q1, |x: f32x8| sin_cos_pi_quarter(x).1);
+        // sin_cos_pi's domain is |x| ≤ ½ (debug builds check it).
+        let half = |x: f32| if x.abs() <= 0.5 { x } else { 0.25 };
+        let half8 = |x: f32x8| f32x8::from_fn(|k| half(x.lane(k)));
+        let p0 = |x: f32| sin_cos_pi(half(x)).0;
+        classes::same_bits_1("sin_pi", p0, |x: f32x8| sin_cos_pi(half8(x)).0);
+        let p1 = |x: f32| sin_cos_pi(half(x)).1;
+        classes::same_bits_1("cos_pi", p1, |x: f32x8| sin_cos_pi(half8(x)).1);
         classes::same_bits_1("acos", acos::<f32>, acos::<f32x8>);
         classes::same_bits_2("atan2", atan2::<f32>, atan2::<f32x8>);
     }

@@ -286,11 +286,14 @@ impl Adaptive {
 /// The sums are exact, like the film's: each sample's terms are taken in
 /// `f64` and truncated to fixed point (units of `2⁻⁴⁰`) in `i128`, so the
 /// statistics, and the decisions made from them, never depend on the
-/// order in which samples arrive or how partial sums are merged. As the
-/// film does, radiance channels and the weight are clamped to
-/// `±MAX_SAMPLE_VALUE` first; then no signed sum can overflow (below
-/// `2¹²⁰` after `2³²` samples) and the non-negative ones (`Σ w²`,
-/// `Σ w²y²`, `Σ y²`) saturate, which no order changes either.
+/// order in which samples arrive or how partial sums are merged. Radiance
+/// channels and the weight are each clamped to `±MAX_SAMPLE_VALUE` first
+/// (the film clamps `w·l` and `w`); then a signed term is below `2⁸⁸`
+/// units, and the signed sums, added modulo `2¹²⁸`, are exact for up to
+/// `2³⁹` samples of the largest values (far more of ordinary radiance);
+/// the non-negative ones (`Σ w²`, `Σ w²y²`, `Σ y²`) saturate, which no
+/// order changes either. Each term is truncated towards zero to its unit
+/// (a bias below `10⁻¹²` a sample).
 ///
 /// ```
 /// use glam::Vec3;
@@ -370,13 +373,14 @@ impl PilotStats {
         let w = w.clamp(-max, max) as f64;
         self.n = self.n.saturating_add(1);
         self.rays = self.rays.saturating_add(rays as u64);
-        // Signed sums cannot overflow (see the type); the others saturate.
-        self.w += pilot_fixed(w);
-        self.wy += pilot_fixed(w * y);
+        // Signed sums wrap (exact in any order, see the type); the others
+        // saturate.
+        self.w = self.w.wrapping_add(pilot_fixed(w));
+        self.wy = self.wy.wrapping_add(pilot_fixed(w * y));
         self.w2 = self.w2.saturating_add(pilot_fixed(w * w));
-        self.w2y += pilot_fixed(w * w * y);
+        self.w2y = self.w2y.wrapping_add(pilot_fixed(w * w * y));
         self.w2y2 = self.w2y2.saturating_add(pilot_fixed(w * w * y * y));
-        self.y += pilot_fixed(y);
+        self.y = self.y.wrapping_add(pilot_fixed(y));
         self.y2 = self.y2.saturating_add(pilot_fixed(y * y));
     }
 
@@ -386,12 +390,12 @@ impl PilotStats {
     pub fn merge(&mut self, o: &PilotStats) {
         self.n = self.n.saturating_add(o.n);
         self.rays = self.rays.saturating_add(o.rays);
-        self.w += o.w;
-        self.wy += o.wy;
+        self.w = self.w.wrapping_add(o.w);
+        self.wy = self.wy.wrapping_add(o.wy);
         self.w2 = self.w2.saturating_add(o.w2);
-        self.w2y += o.w2y;
+        self.w2y = self.w2y.wrapping_add(o.w2y);
         self.w2y2 = self.w2y2.saturating_add(o.w2y2);
-        self.y += o.y;
+        self.y = self.y.wrapping_add(o.y);
         self.y2 = self.y2.saturating_add(o.y2);
     }
 

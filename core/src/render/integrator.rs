@@ -120,7 +120,7 @@ pub(crate) fn surface_lanes<L: Lanes>(
     sphere: &SphereLanes<L>,
     uses_uv: bool,
 ) -> SurfaceLanes<L> {
-    let p = ray.origin + ray.dir * t;
+    let p = ray.at(t);
     let outward = unit_normal_lanes(p, sphere.center);
     let front_face = ray.dir.dot(outward).lt(L::splat(0.0));
     let zero = L::splat(0.0);

@@ -170,10 +170,23 @@ fn every_material_gives_the_same_bits_in_one_lane_and_eight() {
                     _ => Vec3::splat(1e12),
                 }),
             };
+            let mut hit = hit;
+            let mut d = d;
+            let mut wi_lanes: [Vec3; 8] = core::array::from_fn(|_| r.unit());
+            // Degenerate lanes among the others: a zero and a NaN normal,
+            // a NaN direction, a zero outgoing direction.
+            if round % 5 == 0 {
+                let mut n = n;
+                n[2] = Vec3::ZERO;
+                n[5] = Vec3::NAN;
+                hit.n = v8(|k| n[k]);
+                d[1] = Vec3::new(f32::NAN, 0.0, -1.0);
+                wi_lanes[6] = Vec3::ZERO;
+            }
             let d8 = v8(|k| d[k]);
             let u = (l8(|_| r.f()), l8(|_| r.f()));
             let u_lobe = l8(|_| r.f());
-            let wi = v8(|_| r.unit());
+            let wi = v8(|k| wi_lanes[k]);
             let s8 = m.sample_lanes(d8, &hit, u, u_lobe);
             let (f8, pdf8) = m.eval_lanes(d8, &hit, wi);
             let b8 = m.brdf_lanes(d8, &hit, wi);
@@ -407,4 +420,116 @@ fn camera_surface_and_direct_light_give_the_same_bits_in_one_lane_and_eight() {
     }
     // Shadow rays were traced, some lanes lit and some not.
     assert!(traced_total > 1000 && lit > 500, "{traced_total} {lit}");
+}
+
+/// Degenerate vertices beside ordinary ones: a point inside a light (no
+/// cone), a point at its sphere's centre (the normal is 0/0), a point
+/// 10⁻²⁰ from it (the scaled normal), huge coordinates, and dead lanes.
+#[test]
+fn degenerate_vertices_give_the_same_bits_in_one_lane_and_eight() {
+    let s = spheres();
+    let materials = [
+        Material::Lambertian {
+            albedo: Texture::Solid(Vec3::splat(0.6)),
+        },
+        Material::DiffuseLight {
+            emit: Vec3::splat(2.0),
+        },
+    ];
+    let sphere_material: [u32; 12] = core::array::from_fn(|i| u32::from(i == 1 || i == 2));
+    const SIZE: SceneStorageSize = SceneStorageSize::for_spheres(12, false);
+    let mut chunks = [SphereChunk8::EMPTY; SIZE.chunks];
+    let mut lights = [0u32; SIZE.lights];
+    let storage = SceneStorage {
+        chunks: &mut chunks,
+        lights: &mut lights,
+        bvh_nodes: &mut [],
+        bvh_lanes: &mut [],
+        bvh_ids: &mut [],
+    };
+    let scene = Scene::build(&s, &materials, &sphere_material, Background::Sky, storage).unwrap();
+    let mut stack = BvhStack::new();
+    let mut r = Draw::new(41);
+    let mut seen_nan = false;
+    for round in 0..200 {
+        // Lane k's ray starts at `origin[k]` and is taken at `t[k]`.
+        let target: [usize; 8] = core::array::from_fn(|k| (round + k) % 12);
+        let origin: [Vec3; 8] = core::array::from_fn(|k| match k {
+            0 => s[1].center,             // inside a light
+            1 | 2 => s[target[k]].center, // at a centre
+            3 => Vec3::splat(1e20),       // huge
+            _ => s[target[k]].center + r.unit() * 30.0,
+        });
+        let dir: [Vec3; 8] = core::array::from_fn(|k| {
+            (s[target[k]].center - origin[k] + r.unit() * 0.1).normalize_or(Vec3::Y)
+        });
+        let t: [f32; 8] = core::array::from_fn(|k| match k {
+            0 | 1 => 0.0,
+            2 => 1e-20,
+            _ => (s[target[k]].center - origin[k]).length() - s[target[k]].radius,
+        });
+        let ray8 = RayLanes {
+            origin: v8(|k| origin[k]),
+            dir: v8(|k| dir[k]),
+            t_min: f32x8::splat(0.0),
+            t_max: f32x8::splat(f32::INFINITY),
+        };
+        let sphere = SphereLanes {
+            center: v8(|k| s[target[k]].center),
+            radius: l8(|k| s[target[k]].radius),
+        };
+        let surf8 = surface_lanes(&ray8, l8(|k| t[k]), &sphere, true);
+        let live: [bool; 8] = core::array::from_fn(|k| (round + k) % 4 != 3);
+        let u = (l8(|_| r.f()), (l8(|_| r.f()), l8(|_| r.f())));
+        let (l8v, traced8) = direct_light_lanes(
+            &scene,
+            &mut stack,
+            &materials[0],
+            ray8.dir,
+            &surf8,
+            &sphere,
+            u,
+            mask_from_bools(live),
+        );
+        let mut traced1 = 0;
+        for k in 0..8 {
+            let ray1 = RayLanes {
+                origin: origin[k].into(),
+                dir: dir[k].into(),
+                t_min: 0.0,
+                t_max: f32::INFINITY,
+            };
+            let sphere1 = SphereLanes {
+                center: s[target[k]].center.into(),
+                radius: s[target[k]].radius,
+            };
+            let surf1 = surface_lanes(&ray1, t[k], &sphere1, true);
+            let same = lane_of(&surf8, k);
+            assert_eq!(
+                bits(surf1.n.into()),
+                bits(same.n.into()),
+                "round {round} lane {k}"
+            );
+            assert_eq!(bits(surf1.p.into()), bits(same.p.into()));
+            assert_eq!(
+                (surf1.uv.0.to_bits(), surf1.uv.1.to_bits()),
+                (same.uv.0.to_bits(), same.uv.1.to_bits())
+            );
+            seen_nan |= Vec3::from(surf1.n).is_nan();
+            let (l1, t1) = direct_light_lanes(
+                &scene,
+                &mut stack,
+                &materials[0],
+                ray1.dir,
+                &surf1,
+                &sphere1,
+                (u.0.lane(k), (u.1.0.lane(k), u.1.1.lane(k))),
+                live[k],
+            );
+            assert_eq!(bits(l1.into()), bits(l8v.lane(k)), "round {round} lane {k}");
+            traced1 += t1;
+        }
+        assert_eq!(traced1, traced8, "round {round}");
+    }
+    assert!(seen_nan, "no lane reached the 0/0 normal");
 }

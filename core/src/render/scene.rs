@@ -35,9 +35,7 @@ impl Background {
     #[inline]
     #[must_use]
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
-        match self {
-            Background::Sky | Background::Flat(_) => self.radiance_lanes(V3::from(dir)).into(),
-        }
+        self.radiance_lanes(V3::from(dir)).into()
     }
 
     /// [`Background::radiance`] over lanes.

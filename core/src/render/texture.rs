@@ -178,17 +178,13 @@ impl Texture<'_> {
     #[inline(always)]
     #[must_use]
     pub fn filtered(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
-        // A solid colour, the common case, without a call.
-        if let Texture::Solid(c) = self {
-            return *c;
-        }
-        self.filtered_varying(uv, p, half_width)
+        self.filtered_lanes((uv.x, uv.y), V3::from(p), V3::from(half_width))
+            .into()
     }
 
-    /// [`Texture::filtered`] for the textures that vary.
-    /// [`Texture::filtered`] over lanes: a solid colour in every lane, or
-    /// the texture lane by lane (a checker's box average is taken in
-    /// `f64`, an image's texel fetched).
+    /// [`Texture::filtered`] over lanes: a solid colour (the common case,
+    /// without a call) in every lane, or the texture lane by lane (a
+    /// checker's box average is taken in `f64`, an image's texel fetched).
     #[inline(always)]
     pub(crate) fn filtered_lanes<L: Lanes>(
         &self,
@@ -205,6 +201,7 @@ impl Texture<'_> {
         })
     }
 
+    /// [`Texture::filtered`] for the textures that vary.
     #[inline(never)]
     fn filtered_varying(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
         let Texture::Checker { scale, even, odd } = self else {

@@ -93,7 +93,7 @@ impl SurfaceHit {
     #[inline]
     #[must_use]
     pub fn outward(&self) -> Vec3 {
-        if self.front_face { self.n } else { -self.n }
+        SurfaceLanes::from(self).outward().into()
     }
 }
 

@@ -7,9 +7,9 @@ use glam::Vec3;
 
 use super::{BVH_MAX_DEPTH, Bvh, BvhNode8, LEAF_BIT, SLACK};
 use crate::lanes::{
-    SphereLanes, V3, f32x8, i32x8, lanes_abs, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt,
+    Lanes, SphereLanes, V3, f32x8, i32x8, lanes_bitmask, lanes_eq, lanes_eq_i32, lanes_gt,
     lanes_le, lanes_lt, lanes_lt_i32, lanes_select, lanes_select_i32, mask_from_bits,
-    mask_from_i32, mask_sign,
+    mask_from_i32,
 };
 use crate::trace::{
     Hit, HitPacket8, Ray, RayPacket8, Sphere, ray_sphere_t, sphere_t, sphere_t_live,
@@ -413,7 +413,7 @@ impl Bvh<'_> {
         let rays: [Ray; 8] = core::array::from_fn(|k| packet.ray(k));
         let inf = f32x8::splat(f32::INFINITY);
         let lo = [packet.ox, packet.oy, packet.oz];
-        let s = (lanes_abs(packet.ox) + lanes_abs(packet.oy) + lanes_abs(packet.oz))
+        let s = (Lanes::abs(packet.ox) + Lanes::abs(packet.oy) + Lanes::abs(packet.oz))
             * f32x8::splat(SLACK);
         let slab_lo = [lo[0] + s, lo[1] + s, lo[2] + s];
         let slab_hi = [lo[0] - s, lo[1] - s, lo[2] - s];
@@ -697,7 +697,7 @@ fn insert_far_to_near<T: Copy>(order: &mut [(f32, T); 8], n: usize, item: (f32, 
 fn inv8(d: f32x8) -> f32x8 {
     let tiny = f32x8::splat(1e-30);
     let neg_tiny = f32x8::splat(-1e-30);
-    let negative = mask_sign(d);
+    let negative = Lanes::sign_bit(d);
     let zero = lanes_eq(d, f32x8::splat(0.0));
     let d = lanes_select(zero, lanes_select(negative, neg_tiny, tiny), d);
     f32x8::splat(1.0) / d
