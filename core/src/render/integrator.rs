@@ -51,7 +51,7 @@
 //! same hits as single rays.
 
 use super::camera::Camera;
-use super::material::{Lobe, Material, SurfaceHit, SurfaceLanes};
+use super::material::{Material, SurfaceLanes};
 use super::scene::Scene;
 use super::texture::{TextureFilter, sphere_uv_lanes};
 use crate::filter::PixelFilter;
@@ -103,16 +103,10 @@ pub(crate) fn power_heuristic<L: Lanes>(a: L, b: L) -> L {
     L::select(sum.gt(L::splat(0.0)), a2 / sum, L::splat(0.0))
 }
 
-/// The surface record of a hit.
-#[inline(always)]
-fn surface(scene: &Scene<'_>, ray: &Ray, hit: Hit, material: &Material<'_>) -> SurfaceHit {
-    let s = scene.spheres()[hit.sphere as usize];
-    let surf = surface_lanes(&ray.lanes(), hit.t, &s.lanes(), material.uses_uv());
-    SurfaceHit::from(&surf)
-}
-
-/// [`surface`] over lanes: the record of each lane's hit at `t` on its
-/// sphere.
+/// The surface record of each lane's hit at `t` on its sphere: the point,
+/// the shading normal turned to face the ray, the side, and `(u, v)` when
+/// the material reads it (else zero; the footprint is zero until a
+/// camera ray's differentials give it).
 #[inline(always)]
 pub(crate) fn surface_lanes<L: Lanes>(
     ray: &RayLanes<L>,
@@ -139,17 +133,10 @@ pub(crate) fn surface_lanes<L: Lanes>(
     }
 }
 
-/// The half-widths of the box textures are averaged over at `surf`, from
-/// the differential rays `diff` (see [`RenderSettings::texture_filter`]);
-/// infinite when a differential ray runs parallel to the tangent plane.
-#[inline]
-fn footprint(surf: &SurfaceHit, diff: &[Ray; 2]) -> Vec3 {
-    let lanes = |r: &Ray| (V3::from(r.origin), V3::from(r.dir));
-    footprint_lanes(&surf.into(), &[lanes(&diff[0]), lanes(&diff[1])]).into()
-}
-
-/// [`footprint`] over lanes, from the differential rays' origins and
-/// directions.
+/// Half-widths, per world axis, of the box a camera ray's differential
+/// rays (origins and directions) span where they meet the hit's tangent
+/// plane: the texture filter's footprint (infinite where a differential
+/// misses the plane).
 #[inline(always)]
 pub(crate) fn footprint_lanes<L: Lanes>(
     surf: &SurfaceLanes<L>,
@@ -218,37 +205,6 @@ impl<'s> Scratch<'s> {
             stats: TileStats::default(),
         }
     }
-}
-
-/// Direct light at a smooth vertex from one light chosen by `u_choice`,
-/// towards a direction drawn by `u_dir`; MIS-weighted against the BSDF.
-/// `shadow_rays` counts the shadow ray when one is traced.
-#[inline]
-#[allow(clippy::too_many_arguments)]
-fn direct_light(
-    scene: &Scene<'_>,
-    stack: &mut BvhStack,
-    shadow_rays: &mut u32,
-    ray: &Ray,
-    hit: Hit,
-    surf: &SurfaceHit,
-    u_choice: f32,
-    u_dir: Vec2,
-) -> Vec3 {
-    let here = scene.spheres()[hit.sphere as usize].lanes();
-    let material = scene.material_of(hit.sphere);
-    let (l, traced) = direct_light_lanes(
-        scene,
-        stack,
-        material,
-        V3::from(ray.dir),
-        &surf.into(),
-        &here,
-        (u_choice, (u_dir.x, u_dir.y)),
-        true,
-    );
-    *shadow_rays += traced;
-    l.into()
 }
 
 /// What a lane form needs that differs between one lane and eight: the
@@ -466,34 +422,38 @@ pub(crate) fn trace_path<S: Sampler>(
         if segment == settings.max_depth {
             break;
         }
-        let mut surf = surface(scene, &ray, h, material);
+        // The vertex in the one-lane forms an eight-path loop shares.
+        let here = scene.spheres()[h.sphere as usize].lanes();
+        let d = V3::from(ray.dir);
+        let mut surf = surface_lanes(&ray.lanes(), h.t, &here, material.uses_uv());
         if segment == 1
-            && let Some(d) = &diff
+            && let Some(diff) = &diff
         {
-            surf.footprint = footprint(&surf, d);
+            let rays = |r: &Ray| (V3::from(r.origin), V3::from(r.dir));
+            surf.footprint = footprint_lanes(&surf, &[rays(&diff[0]), rays(&diff[1])]);
         }
         let direct = nee && material.is_smooth();
         let u = VertexSamples::draw(sampler, material.reads(), direct);
         if direct {
             let stack = &mut *scratch.stack;
-            let (c, l) = (u.light_choice, u.light);
-            radiance +=
-                throughput * direct_light(scene, stack, &mut shadow_rays, &ray, h, &surf, c, l);
+            let u_light = (u.light_choice, (u.light.x, u.light.y));
+            let (l, traced) =
+                direct_light_lanes(scene, stack, material, d, &surf, &here, u_light, true);
+            shadow_rays += traced;
+            radiance += throughput * Vec3::from(l);
         }
-        let Some(s) = material.sample(ray.dir, &surf, u.scatter, u.lobe) else {
+        let s = material.sample_lanes(d, &surf, (u.scatter.x, u.scatter.y), u.lobe);
+        if !s.live {
             break;
-        };
-        throughput *= s.weight;
+        }
+        throughput *= Vec3::from(s.weight);
         if throughput == Vec3::ZERO {
             break;
         }
-        last_smooth = match s.lobe {
-            Lobe::Smooth { pdf } => Some((surf.p, pdf)),
-            Lobe::Specular => None,
-        };
-        let sphere = scene.spheres()[h.sphere as usize];
+        last_smooth = material.is_smooth().then_some((Vec3::from(surf.p), s.pdf));
         let outside = surf.front_face != s.transmitted;
-        ray = Ray::new(sphere.spawn_origin_along(surf.outward(), outside), s.wi);
+        let origin = spawn_origin_lanes(&here, surf.outward(), outside);
+        ray = Ray::new(Vec3::from(origin), Vec3::from(s.wi));
     }
     scratch.stats.paths += 1;
     scratch.stats.rays += rays as u64;

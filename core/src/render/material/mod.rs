@@ -93,7 +93,7 @@ impl SurfaceHit {
     #[inline]
     #[must_use]
     pub fn outward(&self) -> Vec3 {
-        SurfaceLanes::from(self).outward().into()
+        outward(V3::from(self.n), self.front_face).into()
     }
 }
 
@@ -111,8 +111,15 @@ impl<L: Lanes> SurfaceLanes<L> {
     /// [`SurfaceHit::outward`] per lane.
     #[inline(always)]
     pub(crate) fn outward(&self) -> V3<L> {
-        V3::select(self.front_face, self.n, -self.n)
+        outward(self.n, self.front_face)
     }
+}
+
+/// The sphere's outward normal from the shading normal `n` and the side
+/// the ray came from.
+#[inline(always)]
+fn outward<L: Lanes>(n: V3<L>, front_face: L::Mask) -> V3<L> {
+    V3::select(front_face, n, -n)
 }
 
 impl From<&SurfaceHit> for SurfaceLanes<f32> {
