@@ -288,9 +288,9 @@ impl Adaptive {
 /// statistics, and the decisions made from them, never depend on the
 /// order in which samples arrive or how partial sums are merged. Radiance
 /// channels and the weight are each clamped to `±MAX_SAMPLE_VALUE` first
-/// (the film clamps `w·l` and `w`); then a signed term is below `2⁸⁸`
-/// units, and the signed sums, added modulo `2¹²⁸`, are exact for up to
-/// `2³⁹` samples of the largest values (far more of ordinary radiance);
+/// (the film clamps `w·l` and `w`); then a signed term is at most `2⁸⁸`
+/// units, and the signed sums, added modulo `2¹²⁸`, are exact for fewer
+/// than `2³⁹` samples of the largest values (far more of ordinary radiance);
 /// the non-negative ones (`Σ w²`, `Σ w²y²`, `Σ y²`) saturate, which no
 /// order changes either. Each term is truncated towards zero to its unit
 /// (a bias below `10⁻¹²` a sample).

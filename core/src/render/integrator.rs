@@ -133,10 +133,10 @@ pub(crate) fn surface_lanes<L: Lanes>(
     }
 }
 
-/// Half-widths, per world axis, of the box a camera ray's differential
-/// rays (origins and directions) span where they meet the hit's tangent
-/// plane: the texture filter's footprint (infinite where a differential
-/// misses the plane).
+/// The half-widths of the box textures are averaged over at `surf`, from
+/// the differential rays' origins and directions (see
+/// [`RenderSettings::texture_filter`]); infinite on every axis when a
+/// differential ray runs parallel to the tangent plane.
 #[inline(always)]
 pub(crate) fn footprint_lanes<L: Lanes>(
     surf: &SurfaceLanes<L>,
@@ -422,15 +422,16 @@ pub(crate) fn trace_path<S: Sampler>(
         if segment == settings.max_depth {
             break;
         }
-        // The vertex in the one-lane forms an eight-path loop shares.
+        // The vertex in the one-lane forms (lanes_check tests them against
+        // eight lanes).
         let here = scene.spheres()[h.sphere as usize].lanes();
         let d = V3::from(ray.dir);
         let mut surf = surface_lanes(&ray.lanes(), h.t, &here, material.uses_uv());
         if segment == 1
             && let Some(diff) = &diff
         {
-            let rays = |r: &Ray| (V3::from(r.origin), V3::from(r.dir));
-            surf.footprint = footprint_lanes(&surf, &[rays(&diff[0]), rays(&diff[1])]);
+            let ends = |r: &Ray| (V3::from(r.origin), V3::from(r.dir));
+            surf.footprint = footprint_lanes(&surf, &[ends(&diff[0]), ends(&diff[1])]);
         }
         let direct = nee && material.is_smooth();
         let u = VertexSamples::draw(sampler, material.reads(), direct);

@@ -62,7 +62,9 @@ use microfacet::CookTorrance;
 use phong::{Kind, Phong};
 use specular::Specular;
 
-/// What the integrator knows about the surface point it shades.
+/// The surface point a material shades, as [`Material::sample`],
+/// [`Material::eval`] and [`Material::brdf`] take it (the path tracer keeps
+/// the same record in its one-lane form).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
     /// The hit point.
@@ -71,8 +73,9 @@ pub struct SurfaceHit {
     pub n: Vec3,
     /// Whether the ray arrived from outside the sphere.
     pub front_face: bool,
-    /// The sphere's `(u, v)` at the point; the integrator leaves it zero
-    /// when the material does not read it ([`Material::uses_uv`]).
+    /// The sphere's `(u, v)` at the point ([`sphere_uv`](super::sphere_uv));
+    /// the path tracer leaves it zero when the material does not read it
+    /// ([`Material::uses_uv`]).
     pub uv: Vec2,
     /// Half-widths, per world axis, of the box textures are averaged over
     /// ([`Texture::filtered`]); zero for point sampling.
@@ -130,19 +133,6 @@ impl From<&SurfaceHit> for SurfaceLanes<f32> {
             n: h.n.into(),
             front_face: h.front_face,
             uv: (h.uv.x, h.uv.y),
-            footprint: h.footprint.into(),
-        }
-    }
-}
-
-impl From<&SurfaceLanes<f32>> for SurfaceHit {
-    #[inline(always)]
-    fn from(h: &SurfaceLanes<f32>) -> Self {
-        Self {
-            p: h.p.into(),
-            n: h.n.into(),
-            front_face: h.front_face,
-            uv: Vec2::new(h.uv.0, h.uv.1),
             footprint: h.footprint.into(),
         }
     }
