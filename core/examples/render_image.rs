@@ -86,6 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     // The sampler is a prototype: each pixel sample derives its own stream
     // from (seed, pixel, index), so tiles may run in any order or thread.

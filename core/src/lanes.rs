@@ -108,8 +108,6 @@ pub(crate) trait Lanes:
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
     /// `b` in every lane of a mask.
     fn mask_splat(b: bool) -> Self::Mask;
-    /// The number of lanes set.
-    fn count(mask: Self::Mask) -> u32;
 
     /// `|x|`, by clearing the sign bit (so `|−0| = 0` and NaNs lose their
     /// sign).
@@ -155,10 +153,6 @@ impl Lanes for f32 {
     #[inline(always)]
     fn mask_splat(b: bool) -> bool {
         b
-    }
-    #[inline(always)]
-    fn count(mask: bool) -> u32 {
-        u32::from(mask)
     }
     // The trait's bit forms, by the instructions that do them on a float
     // register (the same bits: each clears, tests or copies the sign bit).
@@ -271,10 +265,6 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn mask_splat(b: bool) -> f32x8 {
         mask_from_bools([b; 8])
-    }
-    #[inline(always)]
-    fn count(mask: f32x8) -> u32 {
-        lanes_bitmask(mask).count_ones()
     }
     #[inline(always)]
     fn splat(x: f32) -> Self {

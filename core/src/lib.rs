@@ -92,6 +92,7 @@
 //! let settings = RenderSettings {
 //!     max_depth: 8, direct_lighting: true,
 //!     filter: strata::filter::PixelFilter::BOX, texture_filter: TextureFilter::None,
+//!     integrator: strata::render::Integrator::Scalar,
 //! };
 //! let tile = Tile { x0: 8, y0: 8, width: 1, height: 1 };
 //! let mut film = [PixelSum::ZERO; 1];

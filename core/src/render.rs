@@ -29,6 +29,7 @@ pub mod film;
 pub mod integrator;
 #[cfg(test)]
 mod lanes_check;
+mod lockstep;
 pub mod material;
 pub mod scene;
 pub mod splat;
@@ -40,7 +41,7 @@ pub use adaptive::{Adaptive, AdaptiveError, ERROR_FLOOR, PilotStats, render_tile
 pub use camera::{Camera, CameraDesc, CameraError};
 pub use film::{FILM_SCALE, MAX_SAMPLE_VALUE, PixelSum};
 pub use integrator::{
-    CAMERA_DIMENSIONS, RenderSettings, TileStats, VERTEX_DIMENSIONS, pixel_sample,
+    CAMERA_DIMENSIONS, Integrator, RenderSettings, TileStats, VERTEX_DIMENSIONS, pixel_sample,
     pixel_sample_with,
 };
 pub use material::{BsdfSample, Lobe, Material, MaterialError, SurfaceHit};

@@ -420,6 +420,10 @@ pub struct BenchArgs {
     /// Run only this group of comparisons [default: all].
     #[arg(long, value_enum)]
     pub group: Option<crate::bench::Group>,
+    /// Path tracer of the rendering figures: scalar or lockstep (the
+    /// images are the same).
+    #[arg(long, value_enum, default_value_t = IntegratorName::Scalar)]
+    pub integrator: IntegratorName,
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {
@@ -542,6 +546,10 @@ pub struct RenderArgs {
     /// from ray differentials).
     #[arg(long, value_enum, default_value_t = TextureFilterName::None)]
     pub texture_filter: TextureFilterName,
+    /// Path tracer: scalar (one path at a time) or lockstep (eight paths
+    /// at once, shaded a material at a time); the image is the same.
+    #[arg(long, value_enum, default_value_t = IntegratorName::Scalar)]
+    pub integrator: IntegratorName,
     /// Output file: .png (8-bit), .exr (linear float), or .film (exact
     /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
@@ -592,6 +600,28 @@ impl TextureFilterName {
         match self {
             TextureFilterName::None => TextureFilter::None,
             TextureFilterName::Box => TextureFilter::Box,
+        }
+    }
+}
+
+/// The path tracers `--integrator` offers.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+pub enum IntegratorName {
+    /// One path at a time.
+    Scalar,
+    /// Eight paths in lockstep.
+    Lockstep,
+}
+
+impl IntegratorName {
+    /// The core's setting.
+    #[must_use]
+    pub fn integrator(self) -> strata::render::Integrator {
+        match self {
+            IntegratorName::Scalar => strata::render::Integrator::Scalar,
+            IntegratorName::Lockstep => strata::render::Integrator::Lockstep,
         }
     }
 }

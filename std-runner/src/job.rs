@@ -154,6 +154,8 @@ pub struct Job<'a> {
     pub adaptive: Option<Adaptive>,
     /// Texture filtering at camera rays' first hits.
     pub texture_filter: strata::render::TextureFilter,
+    /// The path tracer (the film is the same with either).
+    pub integrator: strata::render::Integrator,
 }
 
 impl<'a> Job<'a> {
@@ -183,6 +185,7 @@ impl<'a> Job<'a> {
             filter: strata::render::PixelFilter::BOX,
             adaptive: None,
             texture_filter: strata::render::TextureFilter::None,
+            integrator: strata::render::Integrator::Scalar,
         }
     }
 }
@@ -496,6 +499,7 @@ fn prepare(job: &Job<'_>) -> Result<(Camera, RenderSettings)> {
         direct_lighting: job.direct_lighting,
         filter: job.filter,
         texture_filter: job.texture_filter,
+        integrator: job.integrator,
     };
     Ok((camera, settings))
 }

@@ -1615,6 +1615,18 @@ fn texture_filter_is_chosen_on_the_command_line_and_named_in_metadata() {
 }
 
 #[test]
+fn both_integrators_write_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let render = |name: &str, extra: &[&str]| horizon(d, "2", name, extra);
+    let scalar = render("s.png", &["--integrator", "scalar"]);
+    assert_eq!(render("l.png", &["--integrator", "lockstep"]), scalar);
+    assert_eq!(render("d.png", &[]), scalar);
+    let e = refused(d, &["render", "--integrator", "simd"]);
+    assert!(e.contains("--integrator"), "{e}");
+}
+
+#[test]
 fn spectrum_writes_an_image_a_plot_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

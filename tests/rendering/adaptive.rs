@@ -55,6 +55,7 @@ fn adaptive_jobs_refuse_sample_runs_and_the_grid() {
         direct_lighting: true,
         filter: PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     let mut film = vec![PixelSum::ZERO; 32];
     let e = data
@@ -385,6 +386,7 @@ fn an_adaptive_pixel_is_its_pilot_and_rest_blended_as_documented() {
             direct_lighting: true,
             filter,
             texture_filter: TextureFilter::None,
+            integrator: strata::render::Integrator::Scalar,
         };
         let a = Adaptive::new(8, 64, 0.002).unwrap();
         let sampler = strata::Independent::new(64, 9).unwrap();

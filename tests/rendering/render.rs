@@ -250,6 +250,7 @@ fn sphere_light_irradiance_is_right_with_and_without_mis() {
             direct_lighting: nee,
             filter: strata::render::PixelFilter::BOX,
             texture_filter: strata::render::TextureFilter::None,
+            integrator: strata::render::Integrator::Scalar,
         };
         let mut s = Independent::new(n, 5).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -292,6 +293,7 @@ fn lit(extra: &[(Sphere, u32)], at: Vec3) -> f32 {
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     let desc = CameraDesc {
         look_from: at + Vec3::new(0.02, 0.05, 0.0),
@@ -382,6 +384,7 @@ fn two_lights_add_up() {
             direct_lighting: nee,
             filter: strata::render::PixelFilter::BOX,
             texture_filter: strata::render::TextureFilter::None,
+            integrator: strata::render::Integrator::Scalar,
         };
         let mut s = Independent::new(n, 8).unwrap();
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
@@ -442,6 +445,7 @@ fn furnace_with_lights_and_mis() {
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     let mut sampler = Independent::new(1, 2).unwrap();
     let (mut sum, mut sum2, mut n) = (0.0f64, 0.0f64, 0u32);
@@ -486,6 +490,7 @@ fn render_tile_refuses_bad_requests() {
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     assert_eq!(
         render_tile(&scene, &cam, &s, &bad_depth, tile, 0..1, &mut film),
@@ -555,6 +560,7 @@ fn white_furnace() {
         direct_lighting: true,
         filter: strata::render::PixelFilter::BOX,
         texture_filter: strata::render::TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     let tile = Tile {
         x0: 0,

@@ -229,6 +229,7 @@ fn the_box_splatted_is_the_box_rendered_to_the_splats_precision() {
         direct_lighting: true,
         filter: PixelFilter::BOX,
         texture_filter: TextureFilter::None,
+        integrator: strata::render::Integrator::Scalar,
     };
     let tile = Tile {
         x0: 3,
@@ -311,6 +312,7 @@ fn a_splatted_image_is_every_sample_added_where_its_filter_reaches() {
             direct_lighting: true,
             filter: PixelFilter::BOX,
             texture_filter: TextureFilter::None,
+            integrator: strata::render::Integrator::Scalar,
         };
         let m = f.splat_margin() as i64;
         assert_eq!(m, margin);

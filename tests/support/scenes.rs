@@ -125,6 +125,7 @@ pub const SETTINGS: RenderSettings = RenderSettings {
     direct_lighting: true,
     filter: strata::render::PixelFilter::BOX,
     texture_filter: strata::render::TextureFilter::None,
+    integrator: strata::render::Integrator::Scalar,
 };
 
 /// The whole image through `render_tile` in tiles of `tile_w × tile_h`.

@@ -511,7 +511,7 @@ impl PilotStats {
 /// };
 /// let camera = Camera::new(&desc, 8, 4).unwrap();
 /// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX,
-///     texture_filter: TextureFilter::None };
+///     texture_filter: TextureFilter::None, integrator: Integrator::Scalar };
 /// let adaptive = Adaptive::new(8, 64, 0.002).unwrap();
 /// let tile = Tile { x0: 0, y0: 0, width: 8, height: 4 };
 /// let mut film = [PixelSum::ZERO; 32];

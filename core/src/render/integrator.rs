@@ -65,6 +65,19 @@ use crate::trace::{
 };
 use glam::{UVec2, Vec2, Vec3};
 
+/// Which path tracer a tile renderer runs. Both give the same bits for
+/// every sample (tested); only speed differs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Integrator {
+    /// One path at a time, the readable specification.
+    #[default]
+    Scalar,
+    /// Up to eight paths in lockstep (the pixels a camera packet shares),
+    /// shaded a material at a time through eight-lane forms of the same
+    /// shading code.
+    Lockstep,
+}
+
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -91,6 +104,9 @@ pub struct RenderSettings {
     /// pbrt-v4: more samples per pixel already average over the pixel, so
     /// each filters less. Later vertices are point-sampled.
     pub texture_filter: TextureFilter,
+    /// The path tracer: [`Integrator::Scalar`] (the default) or
+    /// [`Integrator::Lockstep`]; the film is the same either way.
+    pub integrator: Integrator,
 }
 
 /// The power heuristic (β = 2): the weight of a strategy with density `a`
@@ -247,7 +263,8 @@ impl Occlusion for f32x8 {
 /// by `u.0`, a direction in the cone its sphere subtends drawn from
 /// `u.1`, the material's `f cos θ` there, and a shadow ray that stops at
 /// the light, MIS-weighted against BSDF sampling by the power heuristic.
-/// Returns the radiance (zero in dead lanes) and the shadow rays traced.
+/// Returns the radiance (zero in dead lanes) and the lanes that traced a
+/// shadow ray.
 /// `material` is every lane's; `here` each lane's sphere.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -260,8 +277,9 @@ pub(crate) fn direct_light_lanes<L: Occlusion>(
     here: &SphereLanes<L>,
     u: (L, (L, L)),
     live: L::Mask,
-) -> (V3<L>, u32) {
+) -> (V3<L>, L::Mask) {
     let zero = V3::splat(Vec3::ZERO);
+    let none = L::mask_splat(false);
     let lights = scene.lights();
     let n = lights.len();
     let choice = u.0 * L::splat(n as f32);
@@ -275,14 +293,14 @@ pub(crate) fn direct_light_lanes<L: Occlusion>(
     let (cone, ok) = ConeLanes::subtended_by_sphere(dist, light.radius);
     let live = L::and(live, ok);
     if !L::any(live) {
-        return (zero, 0);
+        return (zero, none);
     }
     let local = uniform_cone(u.1.0, u.1.1, &cone);
     let wi = OnbLanes::from_normal(to_light.div(dist)).to_world(local);
     let (f_cos, bsdf_pdf) = material.eval_lanes(d, surf, wi);
     let live = L::and(live, L::not(f_cos.is_zero()));
     if !L::any(live) {
-        return (zero, 0);
+        return (zero, none);
     }
     // The shadow ray leaves on the side the shading normal faces.
     let origin = spawn_origin_lanes(here, surf.outward(), surf.front_face);
@@ -297,9 +315,9 @@ pub(crate) fn direct_light_lanes<L: Occlusion>(
     // A ray that grazes the light's rim by rounding misses it: no shadow ray.
     let live = L::and(live, t_light.lt(inf));
     if !L::any(live) {
-        return (zero, 0);
+        return (zero, none);
     }
-    let traced = L::count(live);
+    let traced = live;
     let blocked = L::occluded(
         scene,
         &RayLanes {
@@ -342,6 +360,14 @@ pub(crate) struct VertexSamples {
 }
 
 impl VertexSamples {
+    /// Nothing drawn yet.
+    pub(crate) const NONE: Self = Self {
+        scatter: Vec2::ZERO,
+        lobe: 0.0,
+        light_choice: 0.0,
+        light: Vec2::ZERO,
+    };
+
     /// Draws the vertex's six dimensions from `sampler`: those of the
     /// BSDF as the material `reads` them (direction, lobe), and the light
     /// sample's if `direct` (direct lighting at a smooth vertex).
@@ -440,7 +466,7 @@ pub(crate) fn trace_path<S: Sampler>(
             let u_light = (u.light_choice, (u.light.x, u.light.y));
             let (l, traced) =
                 direct_light_lanes(scene, stack, material, d, &surf, &here, u_light, true);
-            shadow_rays += traced;
+            shadow_rays += u32::from(traced);
             radiance += throughput * Vec3::from(l);
         }
         let s = material.sample_lanes(d, &surf, (u.scatter.x, u.scatter.y), u.lobe);
@@ -572,7 +598,7 @@ pub(crate) fn camera_ray<S: Sampler>(
 /// };
 /// let camera = Camera::new(&desc, 8, 8).unwrap();
 /// let settings = RenderSettings { max_depth: 50, direct_lighting: true, filter: PixelFilter::BOX,
-///     texture_filter: TextureFilter::None };
+///     texture_filter: TextureFilter::None, integrator: Integrator::Scalar };
 /// let mut sampler = Independent::new(1, 7).unwrap();
 /// let (l, w) = pixel_sample(&scene, &camera, &mut sampler, &settings, UVec2::new(4, 4), 0);
 /// assert!((l - Vec3::ONE).abs().max_element() < 1e-5); // every path sees 1
@@ -626,7 +652,7 @@ pub fn pixel_sample<S: Sampler>(
 /// };
 /// let camera = Camera::new(&desc, 16, 8).unwrap();
 /// let settings = RenderSettings { max_depth: 8, direct_lighting: true, filter: PixelFilter::BOX,
-///     texture_filter: TextureFilter::None };
+///     texture_filter: TextureFilter::None, integrator: Integrator::Scalar };
 /// let mut sampler = Independent::new(4, 3).unwrap();
 /// let mut stack = BvhStack::new(); // zeroed once, reused for every sample
 /// for i in 0..4 {
@@ -755,6 +781,7 @@ mod tests {
                 direct_lighting: true,
                 filter: PixelFilter::BOX,
                 texture_filter: TextureFilter::None,
+                integrator: Integrator::Scalar,
             };
             let mut s = Counting::new();
             pixel_sample(&scene, &camera, &mut s, &settings, UVec2::new(1, 2), 0);

@@ -12,8 +12,9 @@ use super::RenderSettings;
 use super::camera::Camera;
 use super::film::PixelSum;
 use super::integrator::{
-    CameraSample, Scratch, TileStats, camera_ray, differential_spacing, trace_path,
+    CameraSample, Integrator, Scratch, TileStats, camera_ray, differential_spacing, trace_path,
 };
+use super::lockstep::trace_lockstep;
 use super::scene::Scene;
 use crate::filter::PixelFilter;
 use crate::sampler::Sampler;
@@ -345,6 +346,32 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
             for (f, r) in first.iter_mut().zip(&rays[..ids.len()]) {
                 *f = scene.closest_hit_with(r, self.scratch.stack);
             }
+        }
+        if settings.integrator == Integrator::Lockstep && ids.len() > 1 {
+            let diff: [Option<[Ray; 2]>; 8] = core::array::from_fn(|k| {
+                let &l = ids.get(k)?;
+                let c = CameraSample {
+                    ray: rays[k],
+                    offset: offsets[k],
+                    weight: weights[k],
+                    lens: lens[k],
+                };
+                c.differentials(camera, self.first + UVec2::new(l as u32, 0), self.spacing)
+            });
+            let out = trace_lockstep(
+                scene,
+                self.scratch,
+                self.lanes,
+                ids,
+                settings,
+                &rays,
+                &first,
+                &diff,
+            );
+            for (k, &l) in ids.iter().enumerate() {
+                sink(l, out[k].0, weights[k], out[k].1, offsets[k]);
+            }
+            return;
         }
         for (k, &l) in ids.iter().enumerate() {
             let c = CameraSample {

@@ -17,6 +17,8 @@ pub struct Options {
     pub min_time: Duration,
     /// Run only this group of comparisons (`None`: all of them).
     pub group: Option<Group>,
+    /// The path tracer of the rendering figures.
+    pub integrator: strata::render::Integrator,
 }
 
 impl Default for Options {
@@ -25,6 +27,7 @@ impl Default for Options {
             repetitions: 5,
             min_time: Duration::from_millis(100),
             group: None,
+            integrator: strata::render::Integrator::Scalar,
         }
     }
 }

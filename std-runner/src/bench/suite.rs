@@ -496,9 +496,11 @@ fn bvh(s: &mut Suite<'_>) -> Result<()> {
 fn rendering(s: &mut Suite<'_>) -> Result<()> {
     for (name, spp, depth) in [("week09", 32u32, 5u32), ("cover", 8, 50)] {
         let scene = built_in(name).ok_or_else(|| anyhow::anyhow!("no built-in scene `{name}`"))?;
+        let integrator = s.options.integrator;
         let job = |threads| Job {
             max_depth: depth,
             threads,
+            integrator,
             ..Job::new(&scene, 320, 180, spp)
         };
         let probe = run(&job(1), &|_| {})?;
@@ -539,9 +541,11 @@ fn rendering(s: &mut Suite<'_>) -> Result<()> {
     // The cover at the book's settings on 2 threads, BVH (auto) vs brute
     // force: the throughput figure.
     let scene = built_in("cover").ok_or_else(|| anyhow::anyhow!("no built-in scene `cover`"))?;
+    let integrator = s.options.integrator;
     let job = |bvh| Job {
         max_depth: 50,
         bvh,
+        integrator,
         ..Job::new(&scene, 400, 225, 32)
     };
     let render = |name: &str, bvh| -> Contender<'_> {

@@ -20,6 +20,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         repetitions: args.repetitions as usize,
         min_time: std::time::Duration::from_millis(args.min_time_ms),
         group: args.group,
+        integrator: args.integrator.integrator(),
     };
     let bar = progress_bar(
         args.group

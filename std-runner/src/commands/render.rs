@@ -470,6 +470,7 @@ impl RenderArgs {
             filter,
             adaptive,
             texture_filter: self.texture_filter.filter(),
+            integrator: self.integrator.integrator(),
             ..Job::new(scene, width, height, spp)
         })
     }
