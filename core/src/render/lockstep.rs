@@ -40,6 +40,8 @@ struct PathLane {
 /// `samplers[ids[k]]`, camera ray `rays[k]`, its first hit `first[k]` and
 /// differentials `diff[k]`), returning each lane's radiance and rays
 /// traced, as [`trace_path`](super::integrator) would one by one.
+/// Not inlined: the scalar tile loop that calls it stays as it was.
+#[inline(never)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn trace_lockstep<S: Sampler>(
     scene: &Scene<'_>,

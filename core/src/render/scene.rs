@@ -470,7 +470,9 @@ impl<'a> Scene<'a> {
     }
 
     /// [`Scene::closest_hit_x8`] on the caller's reusable traversal `stack`.
-    #[inline]
+    /// Always inlined: the tile loop's packet and hits then stay in
+    /// registers.
+    #[inline(always)]
     pub fn closest_hit_x8_with(
         &self,
         packet: &RayPacket8,

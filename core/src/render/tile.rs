@@ -18,7 +18,7 @@ use super::lockstep::trace_lockstep;
 use super::scene::Scene;
 use crate::filter::PixelFilter;
 use crate::sampler::Sampler;
-use crate::trace::{BvhStack, HitPacket8, Ray, RayPacket8};
+use crate::trace::{BvhStack, Hit, HitPacket8, Ray, RayPacket8};
 use core::ops::Range;
 use glam::{UVec2, Vec2, Vec3};
 
@@ -316,6 +316,22 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         &mut self,
         ids: &[usize],
         index: u32,
+        sink: impl FnMut(usize, Vec3, f32, u32, Vec2),
+    ) {
+        if self.settings.integrator == Integrator::Lockstep {
+            self.trace_with::<true>(ids, index, sink);
+        } else {
+            self.trace_with::<false>(ids, index, sink);
+        }
+    }
+
+    /// [`Group::trace`] with the integrator fixed at compile time
+    /// (`LOCKSTEP`), so the scalar loop carries no trace of the other.
+    #[inline(always)]
+    pub(super) fn trace_with<const LOCKSTEP: bool>(
+        &mut self,
+        ids: &[usize],
+        index: u32,
         mut sink: impl FnMut(usize, Vec3, f32, u32, Vec2),
     ) {
         let (scene, camera, settings) = (self.scene, self.camera, self.settings);
@@ -347,27 +363,8 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
                 *f = scene.closest_hit_with(r, self.scratch.stack);
             }
         }
-        if settings.integrator == Integrator::Lockstep && ids.len() > 1 {
-            let diff: [Option<[Ray; 2]>; 8] = core::array::from_fn(|k| {
-                let &l = ids.get(k)?;
-                let c = CameraSample {
-                    ray: rays[k],
-                    offset: offsets[k],
-                    weight: weights[k],
-                    lens: lens[k],
-                };
-                c.differentials(camera, self.first + UVec2::new(l as u32, 0), self.spacing)
-            });
-            let out = trace_lockstep(
-                scene,
-                self.scratch,
-                self.lanes,
-                ids,
-                settings,
-                &rays,
-                &first,
-                &diff,
-            );
+        if LOCKSTEP && ids.len() > 1 {
+            let out = self.lockstep(ids, &rays, &first, &offsets, &weights, &lens);
             for (k, &l) in ids.iter().enumerate() {
                 sink(l, out[k].0, weights[k], out[k].1, offsets[k]);
             }
@@ -395,6 +392,48 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         }
     }
 }
+impl<S: Sampler> Group<'_, '_, '_, S> {
+    /// The paths of lanes `ids` from their camera rays and first hits, in
+    /// lockstep. Not inlined: the scalar loop of [`Group::trace`] keeps
+    /// the code it had.
+    #[inline(never)]
+    fn lockstep(
+        &mut self,
+        ids: &[usize],
+        rays: &[Ray; 8],
+        first: &[Option<Hit>; 8],
+        offsets: &[Vec2; 8],
+        weights: &[f32; 8],
+        lens: &[Vec2; 8],
+    ) -> [(Vec3, u32); 8] {
+        let diff: [Option<[Ray; 2]>; 8] = core::array::from_fn(|k| {
+            let &l = ids.get(k)?;
+            let c = CameraSample {
+                ray: rays[k],
+                offset: offsets[k],
+                weight: weights[k],
+                lens: lens[k],
+            };
+            c.differentials(
+                self.camera,
+                self.first + UVec2::new(l as u32, 0),
+                self.spacing,
+            )
+        });
+        let (scene, settings) = (self.scene, self.settings);
+        trace_lockstep(
+            scene,
+            self.scratch,
+            self.lanes,
+            ids,
+            settings,
+            rays,
+            first,
+            &diff,
+        )
+    }
+}
+
 /// Renders samples `samples` of every pixel of `tile` and adds them to
 /// `film` (row-major over the tile, one [`PixelSum`] per pixel), in place:
 /// a film may collect several runs. Camera rays of up to 8 neighbouring
@@ -416,16 +455,27 @@ pub fn render_tile<S: Sampler + Clone>(
     film: &mut [PixelSum],
 ) -> Result<TileStats, RenderError> {
     check_tile(camera, settings, tile, film.len())?;
-    Ok(if unit_weights(settings) {
-        render_tile_adding::<S, true>(scene, camera, sampler, settings, tile, samples, film)
-    } else {
-        render_tile_adding::<S, false>(scene, camera, sampler, settings, tile, samples, film)
+    let (s, c) = (scene, camera);
+    Ok(match (unit_weights(settings), settings.integrator) {
+        (true, Integrator::Scalar) => {
+            render_tile_adding::<S, true, false>(s, c, sampler, settings, tile, samples, film)
+        }
+        (false, Integrator::Scalar) => {
+            render_tile_adding::<S, false, false>(s, c, sampler, settings, tile, samples, film)
+        }
+        (true, Integrator::Lockstep) => {
+            render_tile_adding::<S, true, true>(s, c, sampler, settings, tile, samples, film)
+        }
+        (false, Integrator::Lockstep) => {
+            render_tile_adding::<S, false, true>(s, c, sampler, settings, tile, samples, film)
+        }
     })
 }
 
-/// [`render_tile`] after its checks; `UNIT`: every weight is 1.
+/// [`render_tile`] after its checks; `UNIT`: every weight is 1;
+/// `LOCKSTEP`: the lockstep integrator.
 #[inline]
-fn render_tile_adding<S: Sampler + Clone, const UNIT: bool>(
+fn render_tile_adding<S: Sampler + Clone, const UNIT: bool, const LOCKSTEP: bool>(
     scene: &Scene<'_>,
     camera: &Camera,
     sampler: &S,
@@ -438,7 +488,7 @@ fn render_tile_adding<S: Sampler + Clone, const UNIT: bool>(
     for_each_group(scene, camera, sampler, settings, tile, |group, at, n| {
         let film = &mut film[at..at + n];
         for index in samples.clone() {
-            group.trace(&ALL[..n], index, |l, v, w, _, _| {
+            group.trace_with::<LOCKSTEP>(&ALL[..n], index, |l, v, w, _, _| {
                 if UNIT {
                     film[l].add_unit(v, w);
                 } else {
