@@ -360,14 +360,6 @@ pub(crate) struct VertexSamples {
 }
 
 impl VertexSamples {
-    /// Nothing drawn yet.
-    pub(crate) const NONE: Self = Self {
-        scatter: Vec2::ZERO,
-        lobe: 0.0,
-        light_choice: 0.0,
-        light: Vec2::ZERO,
-    };
-
     /// Draws the vertex's six dimensions from `sampler`: those of the
     /// BSDF as the material `reads` them (direction, lobe), and the light
     /// sample's if `direct` (direct lighting at a smooth vertex).

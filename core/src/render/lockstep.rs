@@ -6,9 +6,13 @@
 //! own sampler and draws its dimensions exactly as the scalar path does,
 //! so every path, and so every film, is the scalar one bit for bit.
 //!
-//! The bookkeeping that differs from lane to lane (hits, misses,
-//! emitters, the sampler's draws, throughput and radiance sums) stays per
-//! lane, in the scalar path's operations and order.
+//! The path state is kept as lanes (structure of arrays): rays,
+//! throughput, radiance and the last smooth bounce are updated eight at a
+//! time under masks, with the scalar path's operations in its order, so a
+//! lane's bits are those of its scalar path. Only the closest hits and the
+//! sampler's draws run lane by lane. A lane that has finished keeps its
+//! last (finite) ray and hit: it is computed with the others and its
+//! results are not read.
 
 use glam::Vec3;
 
@@ -18,22 +22,20 @@ use super::integrator::{
 };
 use super::material::Material;
 use super::scene::Scene;
-use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bools};
+use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bits};
 use crate::sampler::Sampler;
-use crate::trace::{Hit, Ray, Sphere, spawn_origin_lanes};
+use crate::trace::{Hit, Ray, spawn_origin_lanes};
 
-/// One lane's path state between vertices.
-#[derive(Clone, Copy)]
-struct PathLane {
-    ray: Ray,
-    hit: Option<Hit>,
-    radiance: Vec3,
-    throughput: Vec3,
-    /// Where the last smooth bounce left from and its BSDF density.
-    last_smooth: Option<(Vec3, f32)>,
-    rays: u32,
-    shadow_rays: u32,
-    alive: bool,
+/// The lanes set in `bits`, in lane order.
+#[inline(always)]
+fn lanes_of(bits: u32) -> impl Iterator<Item = usize> {
+    (0..8).filter(move |&k| bits >> k & 1 == 1)
+}
+
+/// `mask_from_bits` for a lane set held as `u32`.
+#[inline(always)]
+fn mask(bits: u32) -> f32x8 {
+    mask_from_bits(bits as u8)
 }
 
 /// Traces the paths of lanes `0..n` in lockstep (lane `k` with sampler
@@ -54,154 +56,179 @@ pub(crate) fn trace_lockstep<S: Sampler>(
     diff: &[Option<[Ray; 2]>; 8],
 ) -> [(Vec3, u32); 8] {
     let n = ids.len();
+    debug_assert!((1..=8).contains(&n));
     let nee = settings.direct_lighting && !scene.lights().is_empty();
-    let mut lane: [PathLane; 8] = core::array::from_fn(|k| PathLane {
-        ray: rays[k],
-        hit: first[k],
-        radiance: Vec3::ZERO,
-        throughput: Vec3::ONE,
-        last_smooth: None,
-        rays: 0,
-        shadow_rays: 0,
-        alive: k < n,
-    });
     let spheres = scene.spheres();
+    // Lanes past `n` repeat lane 0, so every lane stays finite.
+    let real = |k: usize| if k < n { k } else { 0 };
+    let mut origin: V3<f32x8> = V3::from_fn(|k| rays[real(k)].origin);
+    let mut dir: V3<f32x8> = V3::from_fn(|k| rays[real(k)].dir);
+    // The closest hit of each lane (a missing one keeps the last, or
+    // sphere 0 at t = 0); `found` marks the lanes that have one now.
+    let mut t = [0.0f32; 8];
+    let mut sphere = [0u32; 8];
+    let mut found = 0u32;
+    for k in 0..8 {
+        if let Some(h) = first[real(k)] {
+            (t[k], sphere[k]) = (h.t, h.sphere);
+            found |= u32::from(k < n) << k;
+        }
+    }
+    let mut radiance = V3::splat(Vec3::ZERO);
+    let mut throughput = V3::splat(Vec3::ONE);
+    // The last smooth bounce (lanes in `smooth`): where it left from and
+    // its BSDF density.
+    let mut smooth = 0u32;
+    let mut smooth_at = V3::splat(Vec3::ZERO);
+    let mut smooth_pdf = f32x8::splat(0.0);
+    // Rays traced by each lane: path segments, shadow rays.
+    let (mut segments, mut shadows) = ([0u32; 8], [0u32; 8]);
+    let mut alive: u32 = (1 << n) - 1;
     for segment in 1..=settings.max_depth {
-        // Hits, misses and emitters, lane by lane.
-        for p in lane.iter_mut().filter(|p| p.alive) {
-            p.rays += 1;
-            if segment > 1 {
-                p.hit = scene.closest_hit_with(&p.ray, scratch.stack);
-            }
-            let Some(h) = p.hit else {
-                p.radiance += p.throughput * scene.background().radiance(p.ray.dir);
-                p.alive = false;
-                continue;
-            };
-            let material = scene.material_of(h.sphere);
-            if material.is_light() {
-                let weight = match p.last_smooth {
-                    Some((at, bsdf_pdf)) if nee => {
-                        let light = spheres[h.sphere as usize].lanes();
-                        power_heuristic(bsdf_pdf, light_pdf_lanes(scene, V3::from(at), &light))
-                    }
-                    _ => 1.0,
-                };
-                p.radiance += p.throughput * material.emitted() * weight;
-                p.alive = false;
+        if segment > 1 {
+            found = 0;
+            let (ox, oy, oz) = (
+                origin.x.to_array(),
+                origin.y.to_array(),
+                origin.z.to_array(),
+            );
+            let (dx, dy, dz) = (dir.x.to_array(), dir.y.to_array(), dir.z.to_array());
+            for k in lanes_of(alive) {
+                let ray = Ray::new(
+                    Vec3::new(ox[k], oy[k], oz[k]),
+                    Vec3::new(dx[k], dy[k], dz[k]),
+                );
+                if let Some(h) = scene.closest_hit_with(&ray, scratch.stack) {
+                    (t[k], sphere[k]) = (h.t, h.sphere);
+                    found |= 1 << k;
+                }
             }
         }
-        if segment == settings.max_depth || !lane.iter().any(|p| p.alive) {
+        for k in lanes_of(alive) {
+            segments[k] += 1;
+        }
+        let missed = alive & !found;
+        if missed != 0 {
+            let sky = throughput.mul_v(scene.background().radiance_lanes(dir));
+            radiance = V3::select(mask(missed), radiance + sky, radiance);
+            alive &= !missed;
+        }
+        let materials: [&Material<'_>; 8] = core::array::from_fn(|k| scene.material_of(sphere[k]));
+        let lights: u32 = lanes_of(alive)
+            .filter(|&k| materials[k].is_light())
+            .map(|k| 1 << k)
+            .sum();
+        if lights != 0 {
+            let emitted = V3::from_fn(|k| materials[k].emitted());
+            let weight = f32x8::from_fn(|k| {
+                if !(nee && lights >> k & smooth >> k & 1 == 1) {
+                    return 1.0;
+                }
+                let light = spheres[sphere[k] as usize].lanes();
+                let at = V3::from(smooth_at.lane(k));
+                power_heuristic(smooth_pdf.lane(k), light_pdf_lanes(scene, at, &light))
+            });
+            let e = throughput.mul_v(emitted) * weight;
+            radiance = V3::select(mask(lights), radiance + e, radiance);
+            alive &= !lights;
+        }
+        if segment == settings.max_depth || alive == 0 {
             break;
         }
-        // The vertices of the live lanes, eight at a time (a dead lane
-        // repeats a live one's, so it stays finite; its results are not
-        // read).
-        let live_lane = lane.iter().position(|p| p.alive).unwrap_or(0);
-        let src = |k: usize| if lane[k].alive { k } else { live_lane };
-        let hit_of = |k: usize| lane[src(k)].hit.unwrap_or(Hit { t: 0.0, sphere: 0 });
-        let sphere_of: [Sphere; 8] = core::array::from_fn(|k| spheres[hit_of(k).sphere as usize]);
+        // The vertices of all eight lanes (a finished lane's results are
+        // not read).
         let here = SphereLanes {
-            center: V3::from_fn(|k| sphere_of[k].center),
-            radius: f32x8::from_fn(|k| sphere_of[k].radius),
+            center: V3::from_fn(|k| spheres[sphere[k] as usize].center),
+            radius: f32x8::from_fn(|k| spheres[sphere[k] as usize].radius),
         };
         let ray = RayLanes {
-            origin: V3::from_fn(|k| lane[src(k)].ray.origin),
-            dir: V3::from_fn(|k| lane[src(k)].ray.dir),
+            origin,
+            dir,
             t_min: f32x8::splat(0.0),
             t_max: f32x8::splat(f32::INFINITY),
         };
-        let d = ray.dir;
-        let t = f32x8::from_fn(|k| hit_of(k).t);
-        let materials: [&Material<'_>; 8] =
-            core::array::from_fn(|k| scene.material_of(hit_of(k).sphere));
-        let uses_uv = (0..8).any(|k| lane[k].alive && materials[k].uses_uv());
-        let mut surf = surface_lanes(&ray, t, &here, uses_uv);
-        if segment == 1 && diff[src(0)].is_some() {
+        let d = dir;
+        let uses_uv = lanes_of(alive).any(|k| materials[k].uses_uv());
+        let mut surf = surface_lanes(&ray, f32x8::new(t), &here, uses_uv);
+        if segment == 1 && diff[0].is_some() {
             let ends = |i: usize| {
-                let r = |k: usize| diff[src(k)].map_or(lane[src(k)].ray, |dk| dk[i]);
+                let r = |k: usize| diff[real(k)].map_or(rays[real(k)], |dk| dk[i]);
                 (V3::from_fn(|k| r(k).origin), V3::from_fn(|k| r(k).dir))
             };
             surf.footprint = footprint_lanes(&surf, &[ends(0), ends(1)]);
         }
+        let outward = surf.outward();
         // One material at a time, over the lanes that hit it.
-        let mut todo: u32 = (0..8).filter(|&k| lane[k].alive).map(|k| 1 << k).sum();
+        let mut todo = alive;
         while todo != 0 {
-            let lead = todo.trailing_zeros() as usize;
-            let material = materials[lead];
-            let group: u32 = (0..8)
-                .filter(|&k| todo >> k & 1 == 1 && core::ptr::eq(materials[k], material))
+            let material = materials[todo.trailing_zeros() as usize];
+            let group: u32 = lanes_of(todo)
+                .filter(|&k| core::ptr::eq(materials[k], material))
                 .map(|k| 1 << k)
                 .sum();
             todo &= !group;
-            let in_group = |k: usize| group >> k & 1 == 1;
+            let in_group = mask(group);
             let direct = nee && material.is_smooth();
-            let mut u: [VertexSamples; 8] = [VertexSamples::NONE; 8];
-            for k in (0..8).filter(|&k| in_group(k)) {
-                u[k] = VertexSamples::draw(&mut samplers[ids[k]], material.reads(), direct);
+            let reads = material.reads();
+            let mut u = [[0.0f32; 8]; 6];
+            for k in lanes_of(group) {
+                let v = VertexSamples::draw(&mut samplers[ids[k]], reads, direct);
+                let draws = [
+                    v.scatter.x,
+                    v.scatter.y,
+                    v.lobe,
+                    v.light_choice,
+                    v.light.x,
+                    v.light.y,
+                ];
+                for (lane, x) in u.iter_mut().zip(draws) {
+                    lane[k] = x;
+                }
             }
-            let live = mask_from_bools(core::array::from_fn(in_group));
+            let [u0, u1, u_lobe, u_choice, ul0, ul1] = u.map(f32x8::new);
             if direct {
-                let u_light = (
-                    f32x8::from_fn(|k| u[k].light_choice),
-                    (
-                        f32x8::from_fn(|k| u[k].light.x),
-                        f32x8::from_fn(|k| u[k].light.y),
-                    ),
-                );
-                let (l, traced) = direct_light_lanes(
+                let (l, shadow) = direct_light_lanes(
                     scene,
                     &mut *scratch.stack,
                     material,
                     d,
                     &surf,
                     &here,
-                    u_light,
-                    live,
+                    (u_choice, (ul0, ul1)),
+                    in_group,
                 );
-                let traced = lanes_bitmask(traced);
-                for k in (0..8).filter(|&k| in_group(k)) {
-                    let p = &mut lane[k];
-                    p.radiance += p.throughput * l.lane(k);
-                    p.shadow_rays += traced >> k & 1;
+                radiance = V3::select(in_group, radiance + throughput.mul_v(l), radiance);
+                for k in lanes_of(lanes_bitmask(shadow) & group) {
+                    shadows[k] += 1;
                 }
             }
-            let scatter = (
-                f32x8::from_fn(|k| u[k].scatter.x),
-                f32x8::from_fn(|k| u[k].scatter.y),
-            );
-            let u_lobe = f32x8::from_fn(|k| u[k].lobe);
-            let s = material.sample_lanes(d, &surf, scatter, u_lobe);
+            let s = material.sample_lanes(d, &surf, (u0, u1), u_lobe);
+            let weighted = throughput.mul_v(s.weight);
+            let scattered = lanes_bitmask(s.live) & group;
+            // A path ends where the BSDF absorbs or the throughput is 0.
+            let go = scattered & !lanes_bitmask(weighted.is_zero());
+            alive &= !(group & !go);
+            let go_mask = mask(go);
+            throughput = V3::select(go_mask, weighted, throughput);
+            if material.is_smooth() {
+                smooth |= go;
+                smooth_at = V3::select(go_mask, surf.p, smooth_at);
+                smooth_pdf = Lanes::select(go_mask, s.pdf, smooth_pdf);
+            } else {
+                smooth &= !go;
+            }
             // Masks are all ones or zeros: xor is `!=`.
             let outside = surf.front_face ^ s.transmitted;
-            let origin = spawn_origin_lanes(&here, surf.outward(), outside);
-            let s_live = lanes_bitmask(s.live);
-            for k in (0..8).filter(|&k| in_group(k)) {
-                let p = &mut lane[k];
-                if s_live >> k & 1 == 0 {
-                    p.alive = false;
-                    continue;
-                }
-                p.throughput *= s.weight.lane(k);
-                if p.throughput == Vec3::ZERO {
-                    p.alive = false;
-                    continue;
-                }
-                p.last_smooth = material
-                    .is_smooth()
-                    .then_some((surf.p.lane(k), s.pdf.lane(k)));
-                p.ray = Ray::new(origin.lane(k), s.wi.lane(k));
-            }
+            let next = spawn_origin_lanes(&here, outward, outside);
+            origin = V3::select(go_mask, next, origin);
+            dir = V3::select(go_mask, s.wi, dir);
         }
     }
     let stats = &mut scratch.stats;
-    core::array::from_fn(|k| {
-        let p = &lane[k];
-        if k < n {
-            stats.paths += 1;
-            stats.rays += u64::from(p.rays);
-            stats.shadow_rays += u64::from(p.shadow_rays);
-        }
-        (p.radiance, p.rays + p.shadow_rays)
-    })
+    for k in 0..n {
+        stats.paths += 1;
+        stats.rays += u64::from(segments[k]);
+        stats.shadow_rays += u64::from(shadows[k]);
+    }
+    core::array::from_fn(|k| (radiance.lane(k), segments[k] + shadows[k]))
 }
