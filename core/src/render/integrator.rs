@@ -139,6 +139,7 @@ pub(crate) fn surface_lanes<L: Lanes>(
         n: V3::select(front_face, outward, -outward),
         front_face,
         footprint: V3::splat(Vec3::ZERO),
+        wanted: u8::MAX,
         // acos and atan2 cost more than the rest of the record; only an
         // image texture reads uv.
         uv: if uses_uv {

@@ -51,6 +51,7 @@ fn lane_of(h: &SurfaceLanes<f32x8>, k: usize) -> SurfaceLanes<f32> {
         front_face: lanes_bitmask(h.front_face) >> k & 1 == 1,
         uv: (h.uv.0.lane(k), h.uv.1.lane(k)),
         footprint: h.footprint.lane(k).into(),
+        wanted: 1,
     }
 }
 

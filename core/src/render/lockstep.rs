@@ -168,6 +168,7 @@ pub(crate) fn trace_lockstep<S: Sampler>(
                 .sum();
             todo &= !group;
             let in_group = mask(group);
+            surf.wanted = group as u8;
             let direct = nee && material.is_smooth();
             let reads = material.reads();
             let mut u = [[0.0f32; 8]; 6];

@@ -178,24 +178,30 @@ impl Texture<'_> {
     #[inline(always)]
     #[must_use]
     pub fn filtered(&self, uv: Vec2, p: Vec3, half_width: Vec3) -> Vec3 {
-        self.filtered_lanes((uv.x, uv.y), V3::from(p), V3::from(half_width))
+        self.filtered_lanes((uv.x, uv.y), V3::from(p), V3::from(half_width), 1)
             .into()
     }
 
     /// [`Texture::filtered`] over lanes: a solid colour (the common case,
     /// without a call) in every lane, or the texture lane by lane (a
-    /// checker's box average is taken in `f64`, an image's texel fetched).
+    /// checker's box average is taken in `f64`, an image's texel fetched)
+    /// for the lanes in `wanted` (bit `k`: lane `k`; the others are 0).
     #[inline(always)]
     pub(crate) fn filtered_lanes<L: Lanes>(
         &self,
         uv: (L, L),
         p: V3<L>,
         half_width: V3<L>,
+        wanted: u8,
     ) -> V3<L> {
         if let Texture::Solid(c) = self {
             return V3::splat(*c);
         }
         V3::from_fn(|k| {
+            // (One lane always computes: no test in the scalar path.)
+            if L::WIDTH > 1 && wanted >> k & 1 == 0 {
+                return Vec3::ZERO;
+            }
             let uv = Vec2::new(uv.0.lane(k), uv.1.lane(k));
             self.filtered_varying(uv, p.lane(k), half_width.lane(k))
         })

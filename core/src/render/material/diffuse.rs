@@ -50,7 +50,7 @@ pub(super) fn sample_lambertian<L: Lanes>(
     hit: &SurfaceLanes<L>,
     u: (L, L),
 ) -> BsdfLanes<L> {
-    let rho = albedo.filtered_lanes(hit.uv, hit.p, hit.footprint);
+    let rho = albedo.filtered_lanes(hit.uv, hit.p, hit.footprint, hit.wanted);
     sample_cosine(hit.n, u, |wi| {
         V3::select(hit.n.dot(wi).gt(L::splat(0.0)), rho, V3::splat(Vec3::ZERO))
     })

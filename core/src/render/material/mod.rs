@@ -108,6 +108,10 @@ pub(crate) struct SurfaceLanes<L: Lanes> {
     pub(crate) front_face: L::Mask,
     pub(crate) uv: (L, L),
     pub(crate) footprint: V3<L>,
+    /// The lanes whose results are read (bit `k`: lane `k`): code that
+    /// falls back to one lane at a time (a varying texture) skips the
+    /// others. All of them unless the caller narrows it.
+    pub(crate) wanted: u8,
 }
 
 impl<L: Lanes> SurfaceLanes<L> {
@@ -134,6 +138,7 @@ impl From<&SurfaceHit> for SurfaceLanes<f32> {
             front_face: h.front_face,
             uv: (h.uv.x, h.uv.y),
             footprint: h.footprint.into(),
+            wanted: 1,
         }
     }
 }
@@ -378,7 +383,7 @@ impl<L: Lanes> Shading<'_, L> {
     /// The albedo `ρ` at the hit, averaged over its footprint.
     #[inline(always)]
     fn albedo(&self, t: &Texture<'_>) -> V3<L> {
-        t.filtered_lanes(self.hit.uv, self.hit.p, self.hit.footprint)
+        t.filtered_lanes(self.hit.uv, self.hit.p, self.hit.footprint, self.hit.wanted)
     }
 
     /// The half vector `unit(V + L)` of Blinn and Cook–Torrance.
