@@ -24,7 +24,7 @@ use super::material::Material;
 use super::scene::Scene;
 use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bits};
 use crate::sampler::Sampler;
-use crate::trace::{Hit, Ray, spawn_origin_lanes};
+use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, spawn_origin_lanes};
 
 /// The lanes set in `bits`, in lane order.
 #[inline(always)]
@@ -86,19 +86,20 @@ pub(crate) fn trace_lockstep<S: Sampler>(
     let mut alive: u32 = (1 << n) - 1;
     for segment in 1..=settings.max_depth {
         if segment > 1 {
-            found = 0;
-            let (ox, oy, oz) = (
-                origin.x.to_array(),
-                origin.y.to_array(),
-                origin.z.to_array(),
+            let packet = RayPacket8::from_lanes(
+                &RayLanes {
+                    origin,
+                    dir,
+                    t_min: f32x8::splat(0.0),
+                    t_max: f32x8::splat(f32::INFINITY),
+                },
+                mask(alive),
             );
-            let (dx, dy, dz) = (dir.x.to_array(), dir.y.to_array(), dir.z.to_array());
+            let mut hits = HitPacket8::NONE;
+            scene.closest_hit_x8_with(&packet, &mut hits, scratch.stack);
+            found = 0;
             for k in lanes_of(alive) {
-                let ray = Ray::new(
-                    Vec3::new(ox[k], oy[k], oz[k]),
-                    Vec3::new(dx[k], dy[k], dz[k]),
-                );
-                if let Some(h) = scene.closest_hit_with(&ray, scratch.stack) {
+                if let Some(h) = hits.hit(k) {
                     (t[k], sphere[k]) = (h.t, h.sphere);
                     found |= 1 << k;
                 }
