@@ -28,8 +28,31 @@ use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, spawn_origin_lanes};
 
 /// The lanes set in `bits`, in lane order.
 #[inline(always)]
-fn lanes_of(bits: u32) -> impl Iterator<Item = usize> {
-    (0..8).filter(move |&k| bits >> k & 1 == 1)
+fn lanes_of(bits: u32) -> LaneBits {
+    LaneBits(bits)
+}
+
+/// The iterator of [`lanes_of`]: one step per set bit, not per lane.
+struct LaneBits(u32);
+
+impl Iterator for LaneBits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let k = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(k)
+    }
+}
+
+/// The lanes (bit `k`: lane `k`) where `key[k] == key[lead]`.
+#[inline(always)]
+fn same_as(key: &[u32; 8], lead: usize) -> u32 {
+    let m = key[lead];
+    (0..8).fold(0, |bits, k| bits | u32::from(key[k] == m) << k)
 }
 
 /// `mask_from_bits` for a lane set held as `u32`.
@@ -114,7 +137,9 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             radiance = V3::select(mask(missed), radiance + sky, radiance);
             alive &= !missed;
         }
-        let materials: [&Material<'_>; 8] = core::array::from_fn(|k| scene.material_of(sphere[k]));
+        let material_id: [u32; 8] = core::array::from_fn(|k| scene.material_index(sphere[k]));
+        let materials: [&Material<'_>; 8] =
+            core::array::from_fn(|k| scene.material(material_id[k]));
         let lights: u32 = lanes_of(alive)
             .filter(|&k| materials[k].is_light())
             .map(|k| 1 << k)
@@ -162,11 +187,9 @@ pub(crate) fn trace_lockstep<S: Sampler>(
         // One material at a time, over the lanes that hit it.
         let mut todo = alive;
         while todo != 0 {
-            let material = materials[todo.trailing_zeros() as usize];
-            let group: u32 = lanes_of(todo)
-                .filter(|&k| core::ptr::eq(materials[k], material))
-                .map(|k| 1 << k)
-                .sum();
+            let lead = todo.trailing_zeros() as usize;
+            let material = materials[lead];
+            let group = todo & same_as(&material_id, lead);
             todo &= !group;
             let in_group = mask(group);
             surf.wanted = group as u8;

@@ -506,6 +506,19 @@ impl<'a> Scene<'a> {
         &self.materials[self.sphere_material[sphere as usize] as usize]
     }
 
+    /// The index of sphere `i`'s material (which [`Scene::new`] checked
+    /// exists).
+    #[inline(always)]
+    pub(crate) fn material_index(&self, sphere: u32) -> u32 {
+        self.sphere_material[sphere as usize]
+    }
+
+    /// Material `m` (an index from [`Scene::material_index`]).
+    #[inline(always)]
+    pub(crate) fn material(&self, m: u32) -> &Material<'a> {
+        &self.materials[m as usize]
+    }
+
     /// The emissive spheres' indices.
     #[inline]
     #[must_use]
