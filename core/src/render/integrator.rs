@@ -284,10 +284,18 @@ pub(crate) fn direct_light_lanes<L: Occlusion>(
     let lights = scene.lights();
     let n = lights.len();
     let choice = u.0 * L::splat(n as f32);
-    let light_of = |k: usize| lights[(choice.lane(k) as usize).min(n - 1)];
+    // Each lane's light, chosen once (the lanes' gathers below read it).
+    let light_of: [u32; 8] = core::array::from_fn(|k| {
+        if k < L::WIDTH {
+            lights[(choice.lane(k) as usize).min(n - 1)]
+        } else {
+            0
+        }
+    });
+    let sphere_of = |k: usize| &scene.spheres()[light_of[k] as usize];
     let light = SphereLanes {
-        center: V3::from_fn(|k| scene.spheres()[light_of(k) as usize].center),
-        radius: L::from_fn(|k| scene.spheres()[light_of(k) as usize].radius),
+        center: V3::from_fn(|k| sphere_of(k).center),
+        radius: L::from_fn(|k| sphere_of(k).radius),
     };
     let to_light = light.center - surf.p;
     let dist = to_light.length();
@@ -330,7 +338,7 @@ pub(crate) fn direct_light_lanes<L: Occlusion>(
     );
     let live = L::and(live, L::not(blocked));
     let pdf = uniform_cone_pdf(local, &cone) / L::splat(n as f32);
-    let emit = V3::from_fn(|k| scene.material_of(light_of(k)).emitted());
+    let emit = V3::from_fn(|k| scene.material_of(light_of[k]).emitted());
     let l = f_cos.mul_v(emit) * (power_heuristic(pdf, bsdf_pdf) / pdf);
     (V3::select(live, l, zero), traced)
 }

@@ -197,14 +197,21 @@ impl Texture<'_> {
         if let Texture::Solid(c) = self {
             return V3::splat(*c);
         }
-        V3::from_fn(|k| {
-            // (One lane always computes: no test in the scalar path.)
-            if L::WIDTH > 1 && wanted >> k & 1 == 0 {
-                return Vec3::ZERO;
-            }
+        let at = |k: usize| {
             let uv = Vec2::new(uv.0.lane(k), uv.1.lane(k));
             self.filtered_varying(uv, p.lane(k), half_width.lane(k))
-        })
+        };
+        if L::WIDTH == 1 {
+            return V3::from_fn(at);
+        }
+        let mut out = [Vec3::ZERO; 8];
+        let mut bits = wanted;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            out[k] = at(k);
+        }
+        V3::from_fn(|k| out[k])
     }
 
     /// [`Texture::filtered`] for the textures that vary.
