@@ -421,9 +421,10 @@ pub struct BenchArgs {
     #[arg(long, value_enum)]
     pub group: Option<crate::bench::Group>,
     /// Path tracer of the rendering figures: scalar or lockstep (the
-    /// images are the same).
-    #[arg(long, value_enum, default_value_t = IntegratorName::Scalar)]
-    pub integrator: IntegratorName,
+    /// images are the same) [default: lockstep where the build has AVX,
+    /// else scalar].
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorName>,
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {
@@ -547,9 +548,11 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = TextureFilterName::None)]
     pub texture_filter: TextureFilterName,
     /// Path tracer: scalar (one path at a time) or lockstep (eight paths
-    /// at once, shaded a material at a time); the image is the same.
-    #[arg(long, value_enum, default_value_t = IntegratorName::Scalar)]
-    pub integrator: IntegratorName,
+    /// at once, shaded a material at a time); the image is the same
+    /// [default: lockstep where the build has AVX, else scalar: the
+    /// faster].
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorName>,
     /// Output file: .png (8-bit), .exr (linear float), or .film (exact
     /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
@@ -616,12 +619,14 @@ pub enum IntegratorName {
 }
 
 impl IntegratorName {
-    /// The core's setting.
+    /// The core's setting; `None` (the flag not given) is the build's
+    /// faster ([`strata::render::Integrator::default`]).
     #[must_use]
-    pub fn integrator(self) -> strata::render::Integrator {
-        match self {
-            IntegratorName::Scalar => strata::render::Integrator::Scalar,
-            IntegratorName::Lockstep => strata::render::Integrator::Lockstep,
+    pub fn integrator(name: Option<Self>) -> strata::render::Integrator {
+        match name {
+            None => strata::render::Integrator::default(),
+            Some(IntegratorName::Scalar) => strata::render::Integrator::Scalar,
+            Some(IntegratorName::Lockstep) => strata::render::Integrator::Lockstep,
         }
     }
 }

@@ -1237,6 +1237,10 @@ fn stats_hold_run_facts_and_images_do_not() {
     assert_eq!(facts["threads"], 1);
     assert!(facts["wall_seconds"].as_f64().unwrap() > 0.0);
     assert_eq!(facts["simd"], strata::trace::simd_level().name());
+    assert_eq!(
+        facts["integrator"],
+        strata::render::Integrator::default().name()
+    );
     assert_eq!(facts["camera_paths"], 24 * 13 * 2);
     let png = String::from_utf8_lossy(&bytes(&d.join("s.png"))).into_owned();
     assert!(png.contains("strata.version") && png.contains("strata.camera"));
@@ -1619,9 +1623,12 @@ fn both_integrators_write_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let render = |name: &str, extra: &[&str]| horizon(d, "2", name, extra);
-    let scalar = render("s.png", &["--integrator", "scalar"]);
+    let scalar = render("s.png", &["--integrator", "scalar", "--stats", "s.json"]);
     assert_eq!(render("l.png", &["--integrator", "lockstep"]), scalar);
     assert_eq!(render("d.png", &[]), scalar);
+    let facts: serde_json::Value =
+        serde_json::from_slice(&bytes(&d.join("s.json"))).expect("valid JSON");
+    assert_eq!(facts["integrator"], "scalar", "the flag, not the default");
     let e = refused(d, &["render", "--integrator", "simd"]);
     assert!(e.contains("--integrator"), "{e}");
 }

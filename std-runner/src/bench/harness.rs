@@ -27,7 +27,7 @@ impl Default for Options {
             repetitions: 5,
             min_time: Duration::from_millis(100),
             group: None,
-            integrator: strata::render::Integrator::Scalar,
+            integrator: strata::render::Integrator::default(),
         }
     }
 }

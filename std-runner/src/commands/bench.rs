@@ -5,7 +5,7 @@ use std::io::Write;
 use anyhow::{Context, Result};
 
 use crate::bench::{COMPARISONS, Options, run_suite, table};
-use crate::cli::BenchArgs;
+use crate::cli::{BenchArgs, IntegratorName};
 use crate::commands::output::write_text;
 use crate::commands::{check_output_ext, progress_bar};
 
@@ -20,7 +20,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         repetitions: args.repetitions as usize,
         min_time: std::time::Duration::from_millis(args.min_time_ms),
         group: args.group,
-        integrator: args.integrator.integrator(),
+        integrator: IntegratorName::integrator(args.integrator),
     };
     let bar = progress_bar(
         args.group

@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use strata::render::{Adaptive, Tile, TileStats};
 
 use crate::checkpoint::{self, Checkpoint, STOP};
-use crate::cli::RenderArgs;
+use crate::cli::{IntegratorName, RenderArgs};
 use crate::commands::output::{
     SppMap, check_output_or_film, same_path, spp_summary, write_film_or_image, write_text,
 };
@@ -470,7 +470,7 @@ impl RenderArgs {
             filter,
             adaptive,
             texture_filter: self.texture_filter.filter(),
-            integrator: self.integrator.integrator(),
+            integrator: IntegratorName::integrator(self.integrator),
             ..Job::new(scene, width, height, spp)
         })
     }
@@ -643,6 +643,7 @@ fn write_stats(
         "threads": job.threads,
         "tile": job.tile,
         "simd": strata::trace::simd_level().name(),
+        "integrator": job.integrator.name(),
         "wall_seconds": wall.as_secs_f64(),
         "camera_paths": st.paths,
         "rays": st.rays,
