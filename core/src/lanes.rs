@@ -623,6 +623,29 @@ pub(crate) fn mask_from_bools(b: [bool; 8]) -> f32x8 {
     f32x8::new(b.map(|x| if x { f32::from_bits(u32::MAX) } else { 0.0 }))
 }
 
+/// The lanes set in `bits` (bit `k`: lane `k`), in lane order: one step
+/// per set bit, not per lane.
+#[inline(always)]
+pub(crate) fn set_lanes(bits: u32) -> SetLanes {
+    SetLanes(bits)
+}
+
+/// The iterator of [`set_lanes`].
+pub(crate) struct SetLanes(u32);
+
+impl Iterator for SetLanes {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let k = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(k)
+    }
+}
+
 /// A mask with lane `k` set where bit `k` of `bits` is.
 #[inline(always)]
 pub(crate) fn mask_from_bits(bits: u8) -> f32x8 {

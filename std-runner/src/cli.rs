@@ -557,7 +557,8 @@ pub struct RenderArgs {
     /// partial sums for `strata merge`) [default: SCENE.png].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Write run facts (threads, wall time, SIMD level, rays) as JSON.
+    /// Write run facts (threads, wall time, SIMD level, integrator, rays)
+    /// as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
     /// Keep each finished tile in this file as the render goes, so an
@@ -571,8 +572,8 @@ pub struct RenderArgs {
     pub no_checkpoint: bool,
     /// Finish an interrupted render from its checkpoint: the flags, scene
     /// and output are the checkpoint's, but for those that never change
-    /// the image (--threads, -o, --stats, --spp-map, and --scene for a
-    /// scene file that moved); tiles it holds are not rendered again, and
+    /// the image (--threads, -o, --stats, --spp-map, --integrator, and
+    /// --scene for a scene file that moved); tiles it holds are not rendered again, and
     /// the output is byte for byte the uninterrupted render's.
     #[arg(long, value_name = "CHECKPOINT")]
     #[serde(skip)]

@@ -163,8 +163,9 @@ impl<'a> Job<'a> {
     /// defaults of `strata render` but one: the scene's depth, the
     /// independent sampler, seed 0, 2 threads, direct lighting, the BVH
     /// where it pays, the box filter, no texture filter, no adaptive
-    /// sampling, the build's faster integrator; tiles of 16 pixels where `--tile` defaults to 32 (the
-    /// side changes speed only, and the benchmark figures are timed at 16).
+    /// sampling, the build's faster integrator; tiles of 16 pixels where
+    /// `--tile` defaults to 32 (the side changes speed only, and the
+    /// benchmark figures are timed at 16).
     /// Change what differs with struct update syntax.
     #[must_use]
     pub fn new(scene: &'a SceneData, width: u32, height: u32, spp: u32) -> Self {

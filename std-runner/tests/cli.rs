@@ -729,6 +729,10 @@ fn bench_writes_a_table_and_json() {
     for key in ["simd", "cpu", "figures", "ratios", "goals"] {
         assert!(json.get(key).is_some(), "{key} missing");
     }
+    assert_eq!(
+        json["integrator"],
+        strata::render::Integrator::default().name()
+    );
     let figures = json["figures"].as_array().unwrap();
     let comparisons: std::collections::BTreeSet<String> = figures
         .iter()

@@ -1,13 +1,14 @@
 //! The lockstep path tracer gives the scalar one's film, byte for byte:
 //! every built-in scene and every `examples/scenes/*.toml`, every sampler,
 //! next-event estimation on and off, depths 1, 2, 5 and 50 at the golden
-//! size (32×18, 4 spp); a splatted filter, an adaptive render and one
-//! 160×90 render per scene.
+//! size (32×18, 4 spp); a splatted filter, an adaptive render, a
+//! texture-filtered render and one 160×90 render per scene. The paths,
+//! rays and shadow rays counted are equal too.
 
 use std::path::Path;
 
 use strata::filter::FilterKind;
-use strata::render::{Adaptive, Integrator, PixelFilter};
+use strata::render::{Adaptive, Integrator, PixelFilter, TextureFilter};
 use strata_runner::golden;
 use strata_runner::job::{Job, SamplerKind, run};
 use strata_runner::scenes::{BUILT_IN, SceneData, built_in, file};
@@ -32,8 +33,11 @@ fn scenes() -> Vec<(String, SceneData)> {
     out
 }
 
-/// The film hashes of `job` with each integrator, and the rays traced.
-fn both(job: &Job<'_>) -> (u64, u64, u64, u64) {
+/// What a render counted: paths, rays, shadow rays.
+type Counts = (u64, u64, u64);
+
+/// The film hashes of `job` with each integrator, and what each counted.
+fn both(job: &Job<'_>) -> (u64, u64, Counts, Counts) {
     let render = |integrator| {
         let done = run(
             &Job {
@@ -45,7 +49,7 @@ fn both(job: &Job<'_>) -> (u64, u64, u64, u64) {
         .unwrap();
         (
             golden::film_hash(&done.pixels),
-            done.stats.rays + done.stats.shadow_rays,
+            (done.stats.paths, done.stats.rays, done.stats.shadow_rays),
         )
     };
     let (a, ra) = render(Integrator::Scalar);
@@ -72,7 +76,7 @@ fn lockstep_films_are_the_scalar_films() {
                         sampler.name()
                     );
                     assert_eq!(a, b, "{what}: film");
-                    assert_eq!(ra, rb, "{what}: rays");
+                    assert_eq!(ra, rb, "{what}: paths, rays, shadow rays");
                     renders += 1;
                 }
             }
@@ -90,17 +94,27 @@ fn lockstep_films_are_the_scalar_films() {
             samples: 0..16,
             ..golden::job(scene, SamplerKind::Sobol, 2)
         };
+        let textured = Job {
+            texture_filter: TextureFilter::Box,
+            ..golden::job(scene, SamplerKind::Sobol, 2)
+        };
         let large = Job {
             spp: 2,
             samples: 0..2,
             ..Job::new(scene, 160, 90, 2)
         };
-        for (what, job) in [("splat", splat), ("adaptive", adaptive), ("160x90", large)] {
+        let jobs = [
+            ("splat", splat),
+            ("adaptive", adaptive),
+            ("texture box", textured),
+            ("160x90", large),
+        ];
+        for (what, job) in jobs {
             let (a, b, ra, rb) = both(&job);
             assert_eq!(a, b, "{name} {what}: film");
-            assert_eq!(ra, rb, "{name} {what}: rays");
+            assert_eq!(ra, rb, "{name} {what}: paths, rays, shadow rays");
             renders += 1;
         }
     }
-    assert!(renders >= 7 * 6 * 8 + 7 * 3, "{renders}");
+    assert!(renders >= 7 * 6 * 8 + 7 * 4, "{renders}");
 }

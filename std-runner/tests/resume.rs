@@ -438,6 +438,55 @@ fn a_resume_keeps_the_interrupted_runs_thread_count_unless_told() {
     assert!(out.contains("on 1 threads"), "{out}");
 }
 
+/// The integrator never changes the image, so a resume may change it: a
+/// render interrupted with the scalar one and finished in lockstep is the
+/// one-shot image, and the run facts name the integrator of the resume.
+#[test]
+fn a_resume_may_change_the_integrator() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = |integrator: &'static str, out: &'static str| {
+        [
+            "render",
+            "--scene",
+            "caustics",
+            "--width",
+            "48",
+            "--spp",
+            "2",
+            "--tile",
+            "8",
+            "--threads",
+            "1",
+            "--integrator",
+            integrator,
+            "-o",
+            out,
+        ]
+    };
+    let mut one = args("lockstep", "one.png").to_vec();
+    one.push("--no-checkpoint");
+    ok(d, &one);
+    let want = bytes(&d.join("one.png"));
+    let cut = strata(d, &args("scalar", "c.png"), Some("after:1"));
+    assert_eq!(cut.status.signal(), Some(6));
+    let resume = [
+        "render",
+        "--resume",
+        "c.png.checkpoint",
+        "--integrator",
+        "lockstep",
+        "--stats",
+        "s.json",
+    ];
+    let out = ok(d, &resume);
+    let (kept, _, rendered) = resumed_counts(&out);
+    assert!(kept >= 1 && rendered >= 1, "{out}");
+    assert!(bytes(&d.join("c.png")) == want, "the resumed image differs");
+    let facts: serde_json::Value = serde_json::from_slice(&bytes(&d.join("s.json"))).unwrap();
+    assert_eq!(facts["integrator"], "lockstep");
+}
+
 /// Writes a checkpoint's header checksum again after an edit (as a tool
 /// that meant the edit would), so what lies behind it is reached.
 fn reseal_header(b: &mut Vec<u8>) {

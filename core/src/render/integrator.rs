@@ -69,7 +69,7 @@ use glam::{UVec2, Vec2, Vec3};
 /// every sample (tested); only speed differs.
 ///
 /// The default is the faster for the build: [`Integrator::Lockstep`]
-/// where eight `f32` lanes are one register (AVX and up: 1.08–1.36× the
+/// where eight `f32` lanes are one register (AVX and up: 1.06–1.31× the
 /// scalar paths/s on the built-in scenes), [`Integrator::Scalar`] where
 /// they take two (SSE2, NEON, WebAssembly's `simd128`), or none. The
 /// choice is made when the core is compiled, by its target features.

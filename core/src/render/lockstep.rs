@@ -9,10 +9,11 @@
 //! The path state is kept as lanes (structure of arrays): rays,
 //! throughput, radiance and the last smooth bounce are updated eight at a
 //! time under masks, with the scalar path's operations in its order, so a
-//! lane's bits are those of its scalar path. Only the closest hits and the
-//! sampler's draws run lane by lane. A lane that has finished keeps its
-//! last (finite) ray and hit: it is computed with the others and its
-//! results are not read.
+//! lane's bits are those of its scalar path; the live lanes' next rays
+//! are traced as one packet. What still runs lane by lane: the sampler's
+//! draws, the material lookups and an emitter's MIS weight. A lane that
+//! has finished keeps its last (finite) ray and hit: it is computed with
+//! the others and its results are not read.
 
 use glam::Vec3;
 
@@ -22,31 +23,11 @@ use super::integrator::{
 };
 use super::material::Material;
 use super::scene::Scene;
-use crate::lanes::{Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bits};
+use crate::lanes::{
+    Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bits, set_lanes,
+};
 use crate::sampler::Sampler;
 use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, spawn_origin_lanes};
-
-/// The lanes set in `bits`, in lane order.
-#[inline(always)]
-fn lanes_of(bits: u32) -> LaneBits {
-    LaneBits(bits)
-}
-
-/// The iterator of [`lanes_of`]: one step per set bit, not per lane.
-struct LaneBits(u32);
-
-impl Iterator for LaneBits {
-    type Item = usize;
-    #[inline(always)]
-    fn next(&mut self) -> Option<usize> {
-        if self.0 == 0 {
-            return None;
-        }
-        let k = self.0.trailing_zeros() as usize;
-        self.0 &= self.0 - 1;
-        Some(k)
-    }
-}
 
 /// The lanes (bit `k`: lane `k`) where `key[k] == key[lead]`.
 #[inline(always)]
@@ -86,8 +67,9 @@ pub(crate) fn trace_lockstep<S: Sampler>(
     let real = |k: usize| if k < n { k } else { 0 };
     let mut origin: V3<f32x8> = V3::from_fn(|k| rays[real(k)].origin);
     let mut dir: V3<f32x8> = V3::from_fn(|k| rays[real(k)].dir);
-    // The closest hit of each lane (a missing one keeps the last, or
-    // sphere 0 at t = 0); `found` marks the lanes that have one now.
+    // The closest hit of each lane (a lane without one keeps its last, or
+    // from the start sphere 0 at t = 0; lanes past `n` lane 0's); `found`
+    // marks the lanes that have one now.
     let mut t = [0.0f32; 8];
     let mut sphere = [0u32; 8];
     let mut found = 0u32;
@@ -121,14 +103,14 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             let mut hits = HitPacket8::NONE;
             scene.closest_hit_x8_with(&packet, &mut hits, scratch.stack);
             found = 0;
-            for k in lanes_of(alive) {
+            for k in set_lanes(alive) {
                 if let Some(h) = hits.hit(k) {
                     (t[k], sphere[k]) = (h.t, h.sphere);
                     found |= 1 << k;
                 }
             }
         }
-        for k in lanes_of(alive) {
+        for k in set_lanes(alive) {
             segments[k] += 1;
         }
         let missed = alive & !found;
@@ -137,13 +119,16 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             radiance = V3::select(mask(missed), radiance + sky, radiance);
             alive &= !missed;
         }
+        // (Also before any material lookup: a scene may have no spheres.)
+        if alive == 0 {
+            break;
+        }
         let material_id: [u32; 8] = core::array::from_fn(|k| scene.material_index(sphere[k]));
         let materials: [&Material<'_>; 8] =
             core::array::from_fn(|k| scene.material(material_id[k]));
-        let lights: u32 = lanes_of(alive)
+        let lights = set_lanes(alive)
             .filter(|&k| materials[k].is_light())
-            .map(|k| 1 << k)
-            .sum();
+            .fold(0u32, |bits, k| bits | 1 << k);
         if lights != 0 {
             let emitted = V3::from_fn(|k| materials[k].emitted());
             let weight = f32x8::from_fn(|k| {
@@ -173,8 +158,10 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             t_min: f32x8::splat(0.0),
             t_max: f32x8::splat(f32::INFINITY),
         };
+        // The vertex's incoming directions: `dir` takes each group's next
+        // directions as it is shaded.
         let d = dir;
-        let uses_uv = lanes_of(alive).any(|k| materials[k].uses_uv());
+        let uses_uv = set_lanes(alive).any(|k| materials[k].uses_uv());
         let mut surf = surface_lanes(&ray, f32x8::new(t), &here, uses_uv);
         if segment == 1 && diff[0].is_some() {
             let ends = |i: usize| {
@@ -196,7 +183,7 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             let direct = nee && material.is_smooth();
             let reads = material.reads();
             let mut u = [[0.0f32; 8]; 6];
-            for k in lanes_of(group) {
+            for k in set_lanes(group) {
                 let v = VertexSamples::draw(&mut samplers[ids[k]], reads, direct);
                 let draws = [
                     v.scatter.x,
@@ -223,7 +210,7 @@ pub(crate) fn trace_lockstep<S: Sampler>(
                     in_group,
                 );
                 radiance = V3::select(in_group, radiance + throughput.mul_v(l), radiance);
-                for k in lanes_of(lanes_bitmask(shadow) & group) {
+                for k in set_lanes(lanes_bitmask(shadow) & group) {
                     shadows[k] += 1;
                 }
             }
@@ -256,4 +243,78 @@ pub(crate) fn trace_lockstep<S: Sampler>(
         stats.shadow_rays += u64::from(shadows[k]);
     }
     core::array::from_fn(|k| (radiance.lane(k), segments[k] + shadows[k]))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::render::{
+        Background, Camera, CameraDesc, Integrator, Material, PixelFilter, PixelSum,
+        RenderSettings, Scene, SceneStorage, TextureFilter, Tile, render_tile,
+    };
+    use crate::sampler::Independent;
+    use crate::trace::{Sphere, SphereChunk8};
+
+    /// An 8×2 render of `spheres` (one material) with `integrator`: its
+    /// film and what it traced.
+    fn render(spheres: &[Sphere], integrator: Integrator) -> ([PixelSum; 16], u64, u64) {
+        let materials = [Material::Metal {
+            albedo: Vec3::splat(0.8),
+            roughness: 0.3,
+        }];
+        let sphere_material = [0u32; 2];
+        let mut chunks = [SphereChunk8::EMPTY; 1];
+        let mut lights = [0u32; 2];
+        let storage = SceneStorage {
+            chunks: &mut chunks,
+            lights: &mut lights,
+            bvh_nodes: &mut [],
+            bvh_lanes: &mut [],
+            bvh_ids: &mut [],
+        };
+        let materials = &materials[..spheres.len().min(1)];
+        let scene = Scene::build(
+            spheres,
+            materials,
+            &sphere_material[..spheres.len()],
+            Background::Sky,
+            storage,
+        )
+        .unwrap();
+        let desc = CameraDesc {
+            look_from: Vec3::new(0.0, 0.0, 5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            vfov_deg: 30.0,
+            defocus_angle_deg: 0.0,
+            focus_dist: 5.0,
+        };
+        let camera = Camera::new(&desc, 8, 2).unwrap();
+        let settings = RenderSettings {
+            max_depth: 5,
+            direct_lighting: true,
+            filter: PixelFilter::BOX,
+            texture_filter: TextureFilter::None,
+            integrator,
+        };
+        let sampler = Independent::new(2, 7).unwrap();
+        let mut film = [PixelSum::ZERO; 16];
+        let tile = Tile::whole(8, 2);
+        let st = render_tile(&scene, &camera, &sampler, &settings, tile, 0..2, &mut film).unwrap();
+        (film, st.rays, st.paths)
+    }
+
+    /// Scenes where every path misses at once: none of their lanes reads
+    /// a material (an empty scene has none to read).
+    #[test]
+    fn scenes_that_every_path_misses_give_the_scalar_film() {
+        let behind = Sphere::new(Vec3::new(0.0, 0.0, 9.0), 1.0);
+        for spheres in [&[][..], &[behind][..]] {
+            let scalar = render(spheres, Integrator::Scalar);
+            let lockstep = render(spheres, Integrator::Lockstep);
+            assert_eq!(lockstep, scalar, "{} spheres", spheres.len());
+            assert_eq!(scalar.1, 32, "one ray a path");
+        }
+    }
 }

@@ -506,8 +506,8 @@ impl<'a> Scene<'a> {
         &self.materials[self.sphere_material[sphere as usize] as usize]
     }
 
-    /// The index of sphere `i`'s material (which [`Scene::new`] checked
-    /// exists).
+    /// The index of the material of sphere `sphere` (which [`Scene::new`]
+    /// checked exists).
     #[inline(always)]
     pub(crate) fn material_index(&self, sphere: u32) -> u32 {
         self.sphere_material[sphere as usize]

@@ -3,7 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::lanes::{Lanes, V3};
+use crate::lanes::{Lanes, V3, set_lanes};
 use crate::trig;
 
 /// An image texture over borrowed texels: `width × height` linear RGB
@@ -185,7 +185,8 @@ impl Texture<'_> {
     /// [`Texture::filtered`] over lanes: a solid colour (the common case,
     /// without a call) in every lane, or the texture lane by lane (a
     /// checker's box average is taken in `f64`, an image's texel fetched)
-    /// for the lanes in `wanted` (bit `k`: lane `k`; the others are 0).
+    /// for the lanes in `wanted` (bit `k`: lane `k`; the others are 0;
+    /// ignored for one lane, which always computes).
     #[inline(always)]
     pub(crate) fn filtered_lanes<L: Lanes>(
         &self,
@@ -205,10 +206,7 @@ impl Texture<'_> {
             return V3::from_fn(at);
         }
         let mut out = [Vec3::ZERO; 8];
-        let mut bits = wanted;
-        while bits != 0 {
-            let k = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
+        for k in set_lanes(u32::from(wanted)) {
             out[k] = at(k);
         }
         V3::from_fn(|k| out[k])
@@ -282,4 +280,54 @@ pub(crate) fn sphere_uv_lanes<L: Lanes>(n: V3<L>) -> (L, L) {
     let theta = trig::acos((-n.y).clamp_to(-1.0, 1.0));
     let phi = trig::atan2(-n.z, n.x) + L::splat(PI);
     (phi * L::splat(0.5 * FRAC_1_PI), theta * L::splat(FRAC_1_PI))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::Texture;
+    use crate::lanes::{Lanes, V3, f32x8};
+
+    /// Over lanes, a varying texture filters exactly the wanted lanes (as
+    /// one lane would) and leaves the others 0; a solid one fills all.
+    #[test]
+    fn a_texture_over_lanes_filters_the_wanted_lanes_only() {
+        let checker = Texture::Checker {
+            scale: 0.3,
+            even: Vec3::new(0.9, 0.8, 0.7),
+            odd: Vec3::new(0.1, 0.2, 0.3),
+        };
+        let p = |k: usize| Vec3::new(k as f32 * 0.37 - 1.1, 0.2 * k as f32, 0.5 - 0.13 * k as f32);
+        let h = |k: usize| {
+            Vec3::splat(if k.is_multiple_of(3) {
+                0.0
+            } else {
+                0.05 * k as f32
+            })
+        };
+        let uv = |k: usize| Vec2::new(0.1 * k as f32, 0.9 - 0.1 * k as f32);
+        let lanes = |t: &Texture<'_>, wanted: u8| {
+            t.filtered_lanes(
+                (f32x8::from_fn(|k| uv(k).x), f32x8::from_fn(|k| uv(k).y)),
+                V3::from_fn(p),
+                V3::from_fn(h),
+                wanted,
+            )
+        };
+        for wanted in [0u8, 1, 0b1000_0000, 0b0101_1010, u8::MAX] {
+            let got = lanes(&checker, wanted);
+            for k in 0..8 {
+                let want = if wanted >> k & 1 == 1 {
+                    checker.filtered(uv(k), p(k), h(k))
+                } else {
+                    Vec3::ZERO
+                };
+                assert_eq!(got.lane(k), want, "wanted {wanted:#010b}, lane {k}");
+            }
+        }
+        let solid = Texture::Solid(Vec3::new(0.25, 0.5, 0.75));
+        let got = lanes(&solid, 0);
+        assert!((0..8).all(|k| got.lane(k) == Vec3::new(0.25, 0.5, 0.75)));
+    }
 }

@@ -120,6 +120,8 @@ pub struct Report {
     pub version: String,
     /// SIMD level of this build.
     pub simd: String,
+    /// The path tracer of the rendering figures (`scalar`, `lockstep`).
+    pub integrator: String,
     /// CPU model, from `/proc/cpuinfo`.
     pub cpu: String,
     /// Logical CPUs available.
@@ -523,8 +525,8 @@ pub fn cpu_model() -> String {
 /// cores of the 2-thread renders.
 pub fn table(r: &Report) -> String {
     let mut out = format!(
-        "strata {} bench — {} ({} CPUs), simd {}, median of {} (min–max)\n",
-        r.version, r.cpu, r.cpus, r.simd, r.repetitions
+        "strata {} bench — {} ({} CPUs), simd {}, {} integrator, median of {} (min–max)\n",
+        r.version, r.cpu, r.cpus, r.simd, r.integrator, r.repetitions
     );
     let mut last = String::new();
     for f in &r.figures {
@@ -745,6 +747,7 @@ mod tests {
         let report = Report {
             version: "v".into(),
             simd: "s".into(),
+            integrator: "i".into(),
             cpu: "c".into(),
             cpus: 2,
             repetitions: 1,

@@ -595,6 +595,7 @@ pub fn run_suite(options: Options, progress: &dyn Fn(&str)) -> Result<Report> {
     Ok(Report {
         version: env!("CARGO_PKG_VERSION").into(),
         simd: strata::trace::simd_level().name().into(),
+        integrator: options.integrator.name().into(),
         cpu: cpu_model(),
         cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
         repetitions: options.repetitions,

@@ -36,8 +36,8 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         {
             bail!(
                 "--resume takes its flags from the checkpoint, not --{}: give it alone, or with \
-                 what never changes the image (--threads, -o, --stats, --spp-map, --scene for a \
-                 scene file that moved)",
+                 what never changes the image (--threads, -o, --stats, --spp-map, --integrator, \
+                 --scene for a scene file that moved)",
                 flag.replace('_', "-")
             );
         }
@@ -90,7 +90,14 @@ fn warn_bright_lights(scene: &SceneData) {
 /// The flags `--resume` takes beside the checkpoint's (clap ids): none
 /// changes the image (the scene file is checked against the saved
 /// scene's name and content hash).
-const RESUME_FLAGS: [&str; 5] = ["threads", "output", "stats", "spp_map", "scene"];
+const RESUME_FLAGS: [&str; 6] = [
+    "threads",
+    "output",
+    "stats",
+    "spp_map",
+    "scene",
+    "integrator",
+];
 
 /// `strata render --resume FILE`: the checkpoint's flags (with those of
 /// [`RESUME_FLAGS`] given now in their place) planned again, so every
@@ -136,6 +143,9 @@ fn resume(given_path: &Path, now: &RenderArgs) -> Result<()> {
     }
     if given("scene") {
         args.scene.clone_from(&now.scene);
+    }
+    if given("integrator") {
+        args.integrator = now.integrator;
     }
     // The checkpoint is this file, wherever it is now.
     args.checkpoint = Some(path.to_path_buf());

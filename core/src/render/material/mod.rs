@@ -110,7 +110,8 @@ pub(crate) struct SurfaceLanes<L: Lanes> {
     pub(crate) footprint: V3<L>,
     /// The lanes whose results are read (bit `k`: lane `k`): code that
     /// falls back to one lane at a time (a varying texture) skips the
-    /// others. All of them unless the caller narrows it.
+    /// others. All of them unless the caller narrows it; ignored for one
+    /// lane.
     pub(crate) wanted: u8,
 }
 
