@@ -503,7 +503,7 @@ impl<'a> Scene<'a> {
     #[inline]
     #[must_use]
     pub fn material_of(&self, sphere: u32) -> &Material<'a> {
-        &self.materials[self.sphere_material[sphere as usize] as usize]
+        self.material(self.material_index(sphere))
     }
 
     /// The index of the material of sphere `sphere` (which [`Scene::new`]
