@@ -95,6 +95,26 @@ fn square_wave_average(t: f64, h: f64) -> Option<f64> {
     }
 }
 
+/// The lanes where `⌊x/s⌋ + ⌊y/s⌋ + ⌊z/s⌋` is odd, as [`Texture::value`]
+/// finds it with `floor_i64` (saturating, NaN as 0), without 64-bit lanes:
+/// the parity of `⌊q⌋` is that of `trunc(q)` flipped where truncation
+/// rounded up; every `f32` with `|q| ≥ 2²⁴` is an even integer, except that
+/// `q ≥ 2⁶³` saturates to `i64::MAX`, which is odd.
+#[inline(always)]
+fn checker_odd_lanes<L: Lanes>(p: V3<L>, scale: f32) -> L::Mask {
+    let s = L::splat(scale);
+    let odd = |x: L| {
+        let q = x / s;
+        let t = q.to_int();
+        let up = L::select_int(L::from_int(t).gt(q), L::splat_int(1), L::splat_int(0));
+        let small = L::int_eq((t ^ up) & L::splat_int(1), L::splat_int(1));
+        let exact = L::and(q.abs().lt(L::splat(16_777_216.0)), small);
+        L::or(exact, q.ge(L::splat(9_223_372_036_854_775_808.0)))
+    };
+    let xor = |a: L::Mask, b: L::Mask| L::or(L::and(a, L::not(b)), L::and(L::not(a), b));
+    xor(xor(odd(p.x), odd(p.y)), odd(p.z))
+}
+
 /// A colour as a function of the surface point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Texture<'a> {
@@ -205,6 +225,24 @@ impl Texture<'_> {
         if L::WIDTH == 1 {
             return V3::from_fn(at);
         }
+        if let Texture::Checker { scale, even, odd } = self {
+            // Point-sampled in every lane at once; a lane with a box to
+            // average over is filtered alone (only at camera hits, and
+            // only with `TextureFilter::Box`).
+            let point = checker_odd_lanes(p, *scale);
+            let mut out = V3::select(point, V3::splat(*odd), V3::splat(*even));
+            let mut boxed = set_lanes(u32::from(wanted))
+                .filter(|&k| half_width.lane(k) != Vec3::ZERO)
+                .peekable();
+            if boxed.peek().is_some() {
+                let mut lanes: [Vec3; 8] = core::array::from_fn(|k| out.lane(k));
+                for k in boxed {
+                    lanes[k] = at(k);
+                }
+                out = V3::from_fn(|k| lanes[k]);
+            }
+            return out;
+        }
         let mut out = [Vec3::ZERO; 8];
         for k in set_lanes(u32::from(wanted)) {
             out[k] = at(k);
@@ -286,11 +324,13 @@ pub(crate) fn sphere_uv_lanes<L: Lanes>(n: V3<L>) -> (L, L) {
 mod tests {
     use glam::{Vec2, Vec3};
 
-    use super::Texture;
+    use super::{ImageTexture, Texture};
     use crate::lanes::{Lanes, V3, f32x8};
 
     /// Over lanes, a varying texture filters exactly the wanted lanes (as
-    /// one lane would) and leaves the others 0; a solid one fills all.
+    /// one lane would); the others are 0 for an image and the point value
+    /// for a checker (point-sampled in every lane at once, a box averaged
+    /// in the wanted lanes only); a solid one fills all.
     #[test]
     fn a_texture_over_lanes_filters_the_wanted_lanes_only() {
         let checker = Texture::Checker {
@@ -298,6 +338,9 @@ mod tests {
             even: Vec3::new(0.9, 0.8, 0.7),
             odd: Vec3::new(0.1, 0.2, 0.3),
         };
+        let texels: [Vec3; 6] =
+            core::array::from_fn(|i| Vec3::new(i as f32, 0.5, 1.0 / (i + 1) as f32));
+        let image = Texture::Image(ImageTexture::new(3, 2, &texels).unwrap());
         let p = |k: usize| Vec3::new(k as f32 * 0.37 - 1.1, 0.2 * k as f32, 0.5 - 0.13 * k as f32);
         let h = |k: usize| {
             Vec3::splat(if k.is_multiple_of(3) {
@@ -316,18 +359,117 @@ mod tests {
             )
         };
         for wanted in [0u8, 1, 0b1000_0000, 0b0101_1010, u8::MAX] {
-            let got = lanes(&checker, wanted);
-            for k in 0..8 {
-                let want = if wanted >> k & 1 == 1 {
-                    checker.filtered(uv(k), p(k), h(k))
-                } else {
-                    Vec3::ZERO
-                };
-                assert_eq!(got.lane(k), want, "wanted {wanted:#010b}, lane {k}");
+            for (t, others) in [(&checker, "point"), (&image, "zero")] {
+                let got = lanes(t, wanted);
+                for k in 0..8 {
+                    let want = if wanted >> k & 1 == 1 {
+                        t.filtered(uv(k), p(k), h(k))
+                    } else if others == "point" {
+                        t.value(uv(k), p(k))
+                    } else {
+                        Vec3::ZERO
+                    };
+                    assert_eq!(got.lane(k), want, "{t:?}, wanted {wanted:#010b}, lane {k}");
+                }
             }
         }
+        // The box does change some wanted lanes (else the test above
+        // could not tell filtering from point sampling).
+        assert!((0..8).any(|k| checker.filtered(uv(k), p(k), h(k)) != checker.value(uv(k), p(k))));
         let solid = Texture::Solid(Vec3::new(0.25, 0.5, 0.75));
         let got = lanes(&solid, 0);
         assert!((0..8).all(|k| got.lane(k) == Vec3::new(0.25, 0.5, 0.75)));
+    }
+
+    /// The point-sampled checker over lanes picks the colour `value` picks
+    /// at every edge of `floor_i64`: fractions, whole numbers, ±2²³, ±2²⁴,
+    /// ±2³¹, ±2⁶³ (where `i64` saturates, to an odd `MAX` above and an even
+    /// `MIN` below), infinities, NaN, −0 and subnormals, each with its
+    /// neighbouring floats, on every axis and with scales that round.
+    #[test]
+    fn the_checker_over_lanes_picks_the_colours_of_value() {
+        let mut qs = std::vec![
+            0.0f32,
+            -0.0,
+            1e-45,
+            -1e-45,
+            f32::MIN_POSITIVE,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN
+        ];
+        for m in [
+            0.5f32,
+            1.0,
+            1.5,
+            2.0,
+            3.0,
+            8_388_607.5,
+            8_388_608.0,
+            16_777_216.0,
+            2_147_483_648.0,
+            9_223_372_036_854_775_808.0,
+        ] {
+            for x in [m, -m] {
+                let b = x.to_bits();
+                qs.extend([
+                    x,
+                    f32::from_bits(b + 1),
+                    f32::from_bits(b - 1),
+                    f32::from_bits(b + 2),
+                ]);
+            }
+        }
+        let zero = V3::splat(Vec3::ZERO);
+        let mut cases = 0;
+        for scale in [1.0f32, 0.3, 7.0] {
+            let c = Texture::Checker {
+                scale,
+                even: Vec3::ONE,
+                odd: Vec3::ZERO,
+            };
+            for (i, axis) in [0usize, 1, 2].into_iter().enumerate() {
+                for chunk in qs.chunks(8) {
+                    // The other axes at 0.5 scale: even cells.
+                    let at = |k: usize| {
+                        let mut v = Vec3::splat(0.5 * scale);
+                        v[axis] = chunk[k % chunk.len()] * scale;
+                        v
+                    };
+                    let got = c.filtered_lanes(
+                        (f32x8::splat(0.0), f32x8::splat(0.0)),
+                        V3::from_fn(at),
+                        zero,
+                        u8::MAX,
+                    );
+                    for k in 0..8 {
+                        assert_eq!(
+                            got.lane(k),
+                            c.value(Vec2::ZERO, at(k)),
+                            "scale {scale}, axis {i}, {:e}",
+                            at(k)[axis]
+                        );
+                        cases += 1;
+                    }
+                }
+            }
+        }
+        // Both colours come up, including from saturation at 2⁶³.
+        let c = Texture::Checker {
+            scale: 1.0,
+            even: Vec3::ONE,
+            odd: Vec3::ZERO,
+        };
+        assert_eq!(
+            c.value(Vec2::ZERO, Vec3::new(f32::INFINITY, 0.5, 0.5)),
+            Vec3::ZERO
+        );
+        assert_eq!(
+            c.value(Vec2::ZERO, Vec3::new(f32::NEG_INFINITY, 0.5, 0.5)),
+            Vec3::ONE
+        );
+        assert!(cases > 800);
     }
 }
