@@ -364,7 +364,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
             }
         }
         if LOCKSTEP && ids.len() > 1 {
-            let out = self.lockstep(ids, &rays, &first, &offsets, &weights, &lens);
+            let out = self.lockstep(ids, &rays, &first, &offsets, &lens);
             for (k, &l) in ids.iter().enumerate() {
                 sink(l, out[k].0, weights[k], out[k].1, offsets[k]);
             }
@@ -403,23 +403,18 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         rays: &[Ray; 8],
         first: &[Option<Hit>; 8],
         offsets: &[Vec2; 8],
-        weights: &[f32; 8],
         lens: &[Vec2; 8],
     ) -> [(Vec3, u32); 8] {
-        let diff: [Option<[Ray; 2]>; 8] = core::array::from_fn(|k| {
-            let &l = ids.get(k)?;
-            let c = CameraSample {
-                ray: rays[k],
-                offset: offsets[k],
-                weight: weights[k],
-                lens: lens[k],
-            };
-            c.differentials(
-                self.camera,
-                self.first + UVec2::new(l as u32, 0),
-                self.spacing,
-            )
-        });
+        // Without texture filtering there are none (and building them
+        // would copy 0.5 KiB a call).
+        const NONE: [Option<[Ray; 2]>; 8] = [None; 8];
+        let made: [Option<[Ray; 2]>; 8];
+        let diff = if self.spacing > 0.0 {
+            made = core::array::from_fn(|k| self.differentials_of(ids, k, rays, offsets, lens));
+            &made
+        } else {
+            &NONE
+        };
         let (scene, settings) = (self.scene, self.settings);
         trace_lockstep(
             scene,
@@ -429,7 +424,32 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
             settings,
             rays,
             first,
-            &diff,
+            diff,
+        )
+    }
+
+    /// The differential rays of lane `k` (pixel lane `ids[k]`), if any.
+    #[inline(always)]
+    fn differentials_of(
+        &self,
+        ids: &[usize],
+        k: usize,
+        rays: &[Ray; 8],
+        offsets: &[Vec2; 8],
+        lens: &[Vec2; 8],
+    ) -> Option<[Ray; 2]> {
+        let &l = ids.get(k)?;
+        let c = CameraSample {
+            ray: rays[k],
+            offset: offsets[k],
+            // (Not read by the differentials.)
+            weight: 0.0,
+            lens: lens[k],
+        };
+        c.differentials(
+            self.camera,
+            self.first + UVec2::new(l as u32, 0),
+            self.spacing,
         )
     }
 }
