@@ -27,7 +27,7 @@ use crate::lanes::{
     Lanes, RayLanes, SphereLanes, V3, f32x8, lanes_bitmask, mask_from_bits, set_lanes,
 };
 use crate::sampler::Sampler;
-use crate::trace::{Hit, HitPacket8, Ray, RayPacket8, spawn_origin_lanes};
+use crate::trace::{HitPacket8, Ray, RayPacket8, spawn_origin_lanes};
 
 /// The lanes (bit `k`: lane `k`) where `key[k] == key[lead]`.
 #[inline(always)]
@@ -43,8 +43,8 @@ fn mask(bits: u32) -> f32x8 {
 }
 
 /// Traces the paths of lanes `0..n` in lockstep (lane `k` with sampler
-/// `samplers[ids[k]]`, camera ray `rays[k]`, its first hit `first[k]` and
-/// differentials `diff[k]`), returning each lane's radiance and rays
+/// `samplers[ids[k]]`, camera ray `rays[k]`, its first hit in lane `k` of
+/// `first` and differentials `diff[k]`), returning each lane's radiance and rays
 /// traced, as [`trace_path`](super::integrator) would one by one.
 /// Not inlined: the scalar tile loop that calls it stays as it was.
 #[inline(never)]
@@ -56,7 +56,7 @@ pub(crate) fn trace_lockstep<S: Sampler>(
     ids: &[usize],
     settings: &RenderSettings,
     rays: &[Ray; 8],
-    first: &[Option<Hit>; 8],
+    first: &HitPacket8,
     diff: &[Option<[Ray; 2]>; 8],
 ) -> [(Vec3, u32); 8] {
     let n = ids.len();
@@ -68,17 +68,10 @@ pub(crate) fn trace_lockstep<S: Sampler>(
     let mut origin: V3<f32x8> = V3::from_fn(|k| rays[real(k)].origin);
     let mut dir: V3<f32x8> = V3::from_fn(|k| rays[real(k)].dir);
     // The closest hit of each lane (a lane without one keeps its last, or
-    // from the start sphere 0 at t = 0; lanes past `n` lane 0's); `found`
-    // marks the lanes that have one now.
-    let mut t = [0.0f32; 8];
-    let mut sphere = [0u32; 8];
-    let mut found = 0u32;
-    for k in 0..8 {
-        if let Some(h) = first[real(k)] {
-            (t[k], sphere[k]) = (h.t, h.sphere);
-            found |= u32::from(k < n) << k;
-        }
-    }
+    // from the start sphere 0 at t = 0); `found` marks the lanes that have
+    // one now.
+    let (mut found, mut t, mut sphere) = first.found_lanes();
+    found &= (1 << n) - 1;
     let mut radiance = V3::splat(Vec3::ZERO);
     let mut throughput = V3::splat(Vec3::ONE);
     // The last smooth bounce (lanes in `smooth`): where it left from and
@@ -102,12 +95,10 @@ pub(crate) fn trace_lockstep<S: Sampler>(
             );
             let mut hits = HitPacket8::NONE;
             scene.closest_hit_x8_with(&packet, &mut hits, scratch.stack);
-            found = 0;
-            for k in set_lanes(alive) {
-                if let Some(h) = hits.hit(k) {
-                    (t[k], sphere[k]) = (h.t, h.sphere);
-                    found |= 1 << k;
-                }
+            let (hit, ht, hs) = hits.found_lanes();
+            found = hit & alive;
+            for k in set_lanes(found) {
+                (t[k], sphere[k]) = (ht[k], hs[k]);
             }
         }
         for k in set_lanes(alive) {

@@ -18,7 +18,7 @@ use super::lockstep::trace_lockstep;
 use super::scene::Scene;
 use crate::filter::PixelFilter;
 use crate::sampler::Sampler;
-use crate::trace::{BvhStack, Hit, HitPacket8, Ray, RayPacket8};
+use crate::trace::{BvhStack, HitPacket8, Ray, RayPacket8};
 use core::ops::Range;
 use glam::{UVec2, Vec2, Vec3};
 
@@ -348,27 +348,34 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         // leaves few lanes active they are traced one by one (the hits are
         // the same either way).
         let mut first = [None; 8];
-        if ids.len() > 2 {
-            let mut hits = HitPacket8::NONE;
+        let mut hits = HitPacket8::NONE;
+        let packet = ids.len() > 2;
+        if packet {
             scene.closest_hit_x8_with(
                 &RayPacket8::from_rays(&rays[..ids.len()]),
                 &mut hits,
                 self.scratch.stack,
             );
-            for (k, f) in first.iter_mut().enumerate().take(ids.len()) {
-                *f = hits.hit(k);
-            }
         } else {
             for (f, r) in first.iter_mut().zip(&rays[..ids.len()]) {
                 *f = scene.closest_hit_with(r, self.scratch.stack);
             }
         }
         if LOCKSTEP && ids.len() > 1 {
-            let out = self.lockstep(ids, &rays, &first, &offsets, &lens);
+            // The lockstep tracer keeps hits as lanes.
+            if !packet {
+                hits = HitPacket8::from_hits(&first[..ids.len()]);
+            }
+            let out = self.lockstep(ids, &rays, &hits, &offsets, &lens);
             for (k, &l) in ids.iter().enumerate() {
                 sink(l, out[k].0, weights[k], out[k].1, offsets[k]);
             }
             return;
+        }
+        if packet {
+            for (k, f) in first.iter_mut().enumerate().take(ids.len()) {
+                *f = hits.hit(k);
+            }
         }
         for (k, &l) in ids.iter().enumerate() {
             let c = CameraSample {
@@ -401,7 +408,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         &mut self,
         ids: &[usize],
         rays: &[Ray; 8],
-        first: &[Option<Hit>; 8],
+        first: &HitPacket8,
         offsets: &[Vec2; 8],
         lens: &[Vec2; 8],
     ) -> [(Vec3, u32); 8] {

@@ -14,8 +14,8 @@ use glam::Vec3;
 
 use super::{Hit, Ray, Sphere, sphere_t};
 use crate::lanes::{
-    Lanes, RayLanes, SphereLanes, V3, f32x8, i32x8, lanes_bitmask, lanes_select, lanes_select_i32,
-    mask_from_bits, mask_from_bools,
+    Lanes, RayLanes, SphereLanes, V3, f32x8, i32x8, lanes_bitmask, lanes_lt, lanes_lt_i32,
+    lanes_select, lanes_select_i32, mask_from_bits, mask_from_bools,
 };
 
 /// Eight spheres as structure of arrays: one 8-lane vector per coordinate
@@ -539,6 +539,37 @@ impl HitPacket8 {
     #[must_use]
     pub fn hit_bits(&self) -> u32 {
         (0..8).fold(0, |bits, k| bits | (self.hit(k).is_some() as u32) << k)
+    }
+
+    /// The lanes with a hit (bit `k`: lane `k`), and each lane's distance
+    /// and sphere where it has one (others: `t = 0`, sphere 0), for code
+    /// that keeps hits as lanes: the hits [`HitPacket8::hit`] gives.
+    #[inline(always)]
+    pub(crate) fn found_lanes(&self) -> (u32, [f32; 8], [u32; 8]) {
+        let some = lanes_lt(self.t, f32x8::splat(f32::INFINITY));
+        let hit = lanes_lt_i32(i32x8::splat(-1), self.sphere);
+        let found: f32x8 = some & wide::bytemuck::cast::<i32x8, f32x8>(hit);
+        let t = lanes_select(found, self.t, f32x8::splat(0.0));
+        let sphere = lanes_select_i32(found, self.sphere, i32x8::splat(0));
+        let sphere = sphere.to_array().map(|s| s as u32);
+        (lanes_bitmask(found), t.to_array(), sphere)
+    }
+
+    /// A packet holding `hits` in its first lanes (at most 8; the others
+    /// without a hit).
+    #[inline(always)]
+    pub(crate) fn from_hits(hits: &[Option<Hit>]) -> Self {
+        let mut t = [f32::INFINITY; 8];
+        let mut sphere = [-1i32; 8];
+        for (k, h) in hits.iter().take(8).enumerate() {
+            if let Some(h) = h {
+                (t[k], sphere[k]) = (h.t, h.sphere as i32);
+            }
+        }
+        Self {
+            t: f32x8::new(t),
+            sphere: i32x8::new(sphere),
+        }
     }
 
     /// The hit of `lane` (0–7; taken modulo 8), if any.
