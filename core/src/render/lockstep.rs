@@ -44,8 +44,9 @@ fn mask(bits: u32) -> f32x8 {
 
 /// Traces the paths of lanes `0..n` in lockstep (lane `k` with sampler
 /// `samplers[ids[k]]`, camera ray `rays[k]`, its first hit in lane `k` of
-/// `first` and differentials `diff[k]`), returning each lane's radiance and rays
-/// traced, as [`trace_path`](super::integrator) would one by one.
+/// `first` and differentials `diff[k]`; past `n`, `rays` must be finite
+/// and `diff` `None`), returning each lane's radiance and rays traced, as
+/// [`trace_path`](super::integrator) would one by one.
 /// Not inlined: the scalar tile loop that calls it stays as it was.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
@@ -61,12 +62,18 @@ pub(crate) fn trace_lockstep<S: Sampler>(
 ) -> [(Vec3, u32); 8] {
     let n = ids.len();
     debug_assert!((1..=8).contains(&n));
+    debug_assert!(
+        diff[n..].iter().all(Option::is_none)
+            && rays
+                .iter()
+                .all(|r| r.origin.is_finite() && r.dir.is_finite())
+    );
     let nee = settings.direct_lighting && !scene.lights().is_empty();
     let spheres = scene.spheres();
-    // Lanes past `n` repeat lane 0, so every lane stays finite.
-    let real = |k: usize| if k < n { k } else { 0 };
-    let mut origin: V3<f32x8> = V3::from_fn(|k| rays[real(k)].origin);
-    let mut dir: V3<f32x8> = V3::from_fn(|k| rays[real(k)].dir);
+    // Lanes past `n` hold the caller's finite rays (and no hit or
+    // differentials), so every lane stays finite.
+    let mut origin: V3<f32x8> = V3::from_fn(|k| rays[k].origin);
+    let mut dir: V3<f32x8> = V3::from_fn(|k| rays[k].dir);
     // The closest hit of each lane (a lane without one keeps its last, or
     // from the start sphere 0 at t = 0); `found` marks the lanes that have
     // one now.
@@ -101,8 +108,9 @@ pub(crate) fn trace_lockstep<S: Sampler>(
                 (t[k], sphere[k]) = (ht[k], hs[k]);
             }
         }
-        for k in set_lanes(alive) {
-            segments[k] += 1;
+        // (Branch-free: all eight counters at once.)
+        for (k, s) in segments.iter_mut().enumerate() {
+            *s += alive >> k & 1;
         }
         let missed = alive & !found;
         if missed != 0 {
@@ -156,7 +164,7 @@ pub(crate) fn trace_lockstep<S: Sampler>(
         let mut surf = surface_lanes(&ray, f32x8::new(t), &here, uses_uv);
         if segment == 1 && diff[0].is_some() {
             let ends = |i: usize| {
-                let r = |k: usize| diff[real(k)].map_or(rays[real(k)], |dk| dk[i]);
+                let r = |k: usize| diff[k].map_or(rays[k], |dk| dk[i]);
                 (V3::from_fn(|k| r(k).origin), V3::from_fn(|k| r(k).dir))
             };
             surf.footprint = footprint_lanes(&surf, &[ends(0), ends(1)]);
