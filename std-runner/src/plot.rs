@@ -4,7 +4,6 @@
 //! written as. Each chart itself lives with its study.
 
 use std::path::Path;
-use std::sync::OnceLock;
 
 use anyhow::{Context, Result, bail};
 use plotters::coord::Shift;
@@ -24,8 +23,9 @@ pub(crate) type Drawn =
 /// Registers the bundled font (Ubuntu Light, from `epaint_default_fonts`)
 /// as plotters' `sans-serif` once, so text draws the same on any machine
 /// and needs no system fonts.
+#[cfg(not(target_family = "wasm"))]
 fn fonts() -> Result<()> {
-    static DONE: OnceLock<bool> = OnceLock::new();
+    static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *DONE.get_or_init(|| {
         plotters::style::register_font(
             "sans-serif",
@@ -39,6 +39,13 @@ fn fonts() -> Result<()> {
     } else {
         bail!("the bundled font did not load")
     }
+}
+
+/// On WebAssembly plotters has no font registry: the page draws its own
+/// plots, and a plot asked for there fails.
+#[cfg(target_family = "wasm")]
+fn fonts() -> Result<()> {
+    bail!("plots are not drawn on WebAssembly")
 }
 
 /// Line colours, one per sampler, in [`SamplerKind`] order.

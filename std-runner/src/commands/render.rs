@@ -216,6 +216,7 @@ fn finish(
         *CHECKPOINT_PATH.lock().unwrap_or_else(|e| e.into_inner()) = Some(c.path().to_path_buf());
         // Only one handler per process; a second render in one process
         // (tests) keeps the first, which sets the same flag.
+        #[cfg(not(target_family = "wasm"))]
         let _ = ctrlc::set_handler(|| {
             if WRITING.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
                 eprintln!("\nwriting the output: a moment (again to quit at once)");
