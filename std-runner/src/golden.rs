@@ -20,7 +20,9 @@
 //! under "Output changes" in CHANGELOG.md. New rows (a new sampler, scene
 //! or file) are appended and do not change the revision, so users'
 //! partial films keep merging. The file rows also hold the crate version's
-//! text, so a release re-pins them. The pin test in
+//! text, so a release re-pins them, and the PNG rows the bytes of the
+//! `png` crate's fast deflate (fdeflate) at the versions `Cargo.lock`
+//! pins: an update that changes its output is an output change. The pin test in
 //! `std-runner/tests/output_locks.rs` enforces all of it.
 
 use anyhow::{Result, anyhow};

@@ -44,8 +44,8 @@ fn mask(bits: u32) -> f32x8 {
 
 /// Traces the paths of lanes `0..n` in lockstep (lane `k` with sampler
 /// `samplers[ids[k]]`, camera ray `rays[k]`, its first hit in lane `k` of
-/// `first` and differentials `diff[k]`; past `n`, `rays` must be finite
-/// and `diff` `None`), returning each lane's radiance and rays traced, as
+/// `first` and differentials `diff[k]`; past `n`, `rays` are copies of
+/// lane 0's and `diff` is `None`), returning each lane's radiance and rays traced, as
 /// [`trace_path`](super::integrator) would one by one.
 /// Not inlined: the scalar tile loop that calls it stays as it was.
 #[inline(never)]
@@ -62,23 +62,21 @@ pub(crate) fn trace_lockstep<S: Sampler>(
 ) -> [(Vec3, u32); 8] {
     let n = ids.len();
     debug_assert!((1..=8).contains(&n));
-    debug_assert!(
-        diff[n..].iter().all(Option::is_none)
-            && rays
-                .iter()
-                .all(|r| r.origin.is_finite() && r.dir.is_finite())
-    );
+    debug_assert!(diff[n..].iter().all(Option::is_none));
     let nee = settings.direct_lighting && !scene.lights().is_empty();
     let spheres = scene.spheres();
-    // Lanes past `n` hold the caller's finite rays (and no hit or
-    // differentials), so every lane stays finite.
+    // Lanes past `n` hold the caller's copies of lane 0's ray, so they
+    // make the vertex lane 0 makes, which is never read.
     let mut origin: V3<f32x8> = V3::from_fn(|k| rays[k].origin);
     let mut dir: V3<f32x8> = V3::from_fn(|k| rays[k].dir);
     // The closest hit of each lane (a lane without one keeps its last, or
-    // from the start sphere 0 at t = 0); `found` marks the lanes that have
-    // one now.
+    // from the start sphere 0 at t = 0; lanes past `n` lane 0's); `found`
+    // marks the lanes that have one now.
     let (mut found, mut t, mut sphere) = first.found_lanes();
     found &= (1 << n) - 1;
+    for k in n..8 {
+        (t[k], sphere[k]) = (t[0], sphere[0]);
+    }
     let mut radiance = V3::splat(Vec3::ZERO);
     let mut throughput = V3::splat(Vec3::ONE);
     // The last smooth bounce (lanes in `smooth`): where it left from and
@@ -258,6 +256,16 @@ mod tests {
     /// An 8×2 render of `spheres` (one material) with `integrator`: its
     /// film and what it traced.
     fn render(spheres: &[Sphere], integrator: Integrator) -> ([PixelSum; 16], u64, u64) {
+        render_from(Vec3::new(0.0, 0.0, 5.0), 5.0, spheres, integrator)
+    }
+
+    /// [`render`] seen from `look_from`, focused at `focus_dist`.
+    fn render_from(
+        look_from: Vec3,
+        focus_dist: f32,
+        spheres: &[Sphere],
+        integrator: Integrator,
+    ) -> ([PixelSum; 16], u64, u64) {
         let materials = [Material::Metal {
             albedo: Vec3::splat(0.8),
             roughness: 0.3,
@@ -282,12 +290,12 @@ mod tests {
         )
         .unwrap();
         let desc = CameraDesc {
-            look_from: Vec3::new(0.0, 0.0, 5.0),
+            look_from,
             look_at: Vec3::ZERO,
             up: Vec3::Y,
             vfov_deg: 30.0,
             defocus_angle_deg: 0.0,
-            focus_dist: 5.0,
+            focus_dist,
         };
         let camera = Camera::new(&desc, 8, 2).unwrap();
         let settings = RenderSettings {
@@ -315,5 +323,19 @@ mod tests {
             assert_eq!(lockstep, scalar, "{} spheres", spheres.len());
             assert_eq!(scalar.1, 32, "one ray a path");
         }
+    }
+
+    /// A camera so far out that its pixel steps vanish in rounding gives
+    /// NaN rays: both integrators drop those samples alike (the lockstep
+    /// one neither panics nor asserts on them).
+    #[test]
+    fn a_camera_with_nan_rays_gives_the_scalar_film() {
+        let ball = [Sphere::new(Vec3::ZERO, 1.0)];
+        let far = Vec3::splat(1e9);
+        let scalar = render_from(far, 1.0, &ball, Integrator::Scalar);
+        let lockstep = render_from(far, 1.0, &ball, Integrator::Lockstep);
+        assert_eq!(lockstep, scalar);
+        // The rays were NaN: every sample was dropped.
+        assert!(scalar.0.iter().all(|p| p.dropped > 0), "{:?}", scalar.0[0]);
     }
 }

@@ -202,11 +202,13 @@ impl Texture<'_> {
             .into()
     }
 
-    /// [`Texture::filtered`] over lanes: a solid colour (the common case,
-    /// without a call) in every lane, or the texture lane by lane (a
-    /// checker's box average is taken in `f64`, an image's texel fetched)
-    /// for the lanes in `wanted` (bit `k`: lane `k`; the others are 0;
-    /// ignored for one lane, which always computes).
+    /// [`Texture::filtered`] over lanes, for the lanes in `wanted` (bit
+    /// `k`: lane `k`; ignored for one lane, which always computes): a
+    /// solid colour (the common case, without a call) in every lane; a
+    /// checker point-sampled in every lane at once, and averaged over its
+    /// box (in `f64`) lane by lane in the wanted lanes whose box is not
+    /// zero; an image's texels fetched lane by lane in the wanted lanes,
+    /// the others 0.
     #[inline(always)]
     pub(crate) fn filtered_lanes<L: Lanes>(
         &self,

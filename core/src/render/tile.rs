@@ -362,6 +362,12 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
             }
         }
         if LOCKSTEP && ids.len() > 1 {
+            // Unused lanes copy lane 0, so no lane shades a made-up
+            // vertex (a degenerate one would send every lane down a slow
+            // path).
+            for k in ids.len()..8 {
+                rays[k] = rays[0];
+            }
             // The lockstep tracer keeps hits as lanes.
             if !packet {
                 hits = HitPacket8::from_hits(&first[..ids.len()]);
