@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::{Context, Result, anyhow};
 use glam::UVec2;
@@ -391,32 +391,43 @@ fn resumable(
             _ => return Err(anyhow!("done tile {i} is not a tile of the job, or twice")),
         }
     }
-    let start = Instant::now();
-    // A scoped pool: its threads have ended when the render returns (a
-    // library caller may unload the code right after).
-    let new = rayon::ThreadPoolBuilder::new()
-        .num_threads(job.threads)
-        .build_scoped(
-            |thread| thread.run(),
-            |pool| {
-                data.with_scene_bvh(job.bvh, |scene| {
-                    pool.install(|| {
-                        render_tiles(RenderAll {
-                            job,
-                            scene,
-                            camera: &camera,
-                            settings: &settings,
-                            progress,
-                            tiles: &all,
-                            skip: &skip,
-                            on_tile: resume.on_tile,
-                            stop: resume.stop,
-                        })
+    let start = Clock::now();
+    // (A macro: a closure could not take the scene's borrow.)
+    macro_rules! all_of {
+        ($scene:expr, $sequential:expr) => {
+            RenderAll {
+                job,
+                scene: $scene,
+                camera: &camera,
+                settings: &settings,
+                progress,
+                tiles: &all,
+                skip: &skip,
+                on_tile: resume.on_tile,
+                stop: resume.stop,
+                sequential: $sequential,
+            }
+        };
+    }
+    let new = if job.threads == 1 {
+        // One thread: this one, tile after tile (in a browser there is no
+        // other).
+        data.with_scene_bvh(job.bvh, |scene| render_tiles(all_of!(scene, true)))??
+    } else {
+        // A scoped pool: its threads have ended when the render returns (a
+        // library caller may unload the code right after).
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(job.threads)
+            .build_scoped(
+                |thread| thread.run(),
+                |pool| {
+                    data.with_scene_bvh(job.bvh, |scene| {
+                        pool.install(|| render_tiles(all_of!(scene, false)))
                     })
-                })
-            },
-        )
-        .context("cannot start the worker threads")???;
+                },
+            )
+            .context("cannot start the worker threads")???
+    };
     let wall = start.elapsed();
     let mut run_stats = TileStats::default();
     for (_, _, s) in &new {
@@ -522,6 +533,26 @@ fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, layout: Layout, fi
     }
 }
 
+/// A render's wall clock: none in a browser (wasm32-unknown-unknown),
+/// whose `std` has no clock, where every duration reads 0.
+struct Clock(#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))] std::time::Instant);
+
+impl Clock {
+    fn now() -> Self {
+        Clock(
+            #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+            std::time::Instant::now(),
+        )
+    }
+
+    fn elapsed(&self) -> Duration {
+        #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+        return self.0.elapsed();
+        #[cfg(all(target_arch = "wasm32", target_os = "unknown"))]
+        Duration::ZERO
+    }
+}
+
 /// Every tile of a job, in parallel, with one sampler kind.
 struct RenderAll<'a, 's> {
     job: &'a Job<'a>,
@@ -535,6 +566,8 @@ struct RenderAll<'a, 's> {
     skip: &'a [bool],
     on_tile: &'a (dyn Fn(&TileFilm) -> Result<()> + Sync),
     stop: &'a AtomicBool,
+    /// Tile after tile on the calling thread, not on rayon's pool.
+    sequential: bool,
 }
 
 impl WithSampler for RenderAll<'_, '_> {
@@ -566,22 +599,21 @@ fn render_all<S: Sampler + Clone + Send + Sync>(
         .map(|(t, _)| t.area() as u64)
         .sum();
     progress(done);
-    let found: Result<Vec<Option<TileFilm>>> = all
-        .tiles
-        .par_iter()
-        .copied()
-        .enumerate()
-        .map(|(i, tile)| {
-            if all.skip[i] || all.stop.load(Ordering::Relaxed) {
-                return Ok(None);
-            }
-            let (film, stats) = tile_film(job, scene, camera, &sampler, settings, tile)?;
-            let out = (i as u32, film, stats);
-            (all.on_tile)(&out)?;
-            progress(tile.area() as u64);
-            Ok(Some(out))
-        })
-        .collect();
+    let one = |(i, tile): (usize, Tile)| -> Result<Option<TileFilm>> {
+        if all.skip[i] || all.stop.load(Ordering::Relaxed) {
+            return Ok(None);
+        }
+        let (film, stats) = tile_film(job, scene, camera, &sampler, settings, tile)?;
+        let out = (i as u32, film, stats);
+        (all.on_tile)(&out)?;
+        progress(tile.area() as u64);
+        Ok(Some(out))
+    };
+    let found: Result<Vec<Option<TileFilm>>> = if all.sequential {
+        all.tiles.iter().copied().enumerate().map(one).collect()
+    } else {
+        all.tiles.par_iter().copied().enumerate().map(one).collect()
+    };
     Ok(found?.into_iter().flatten().collect())
 }
 
