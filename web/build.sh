@@ -10,6 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 version=$(sed -n 's/^wasm-bindgen = "=\(.*\)"$/\1/p' web/Cargo.toml)
+[[ -n "$version" ]] || { echo "web/build.sh: no exact wasm-bindgen version in web/Cargo.toml" >&2; exit 1; }
 bindgen=${WASM_BINDGEN:-wasm-bindgen}
 if [[ "$("$bindgen" --version 2>/dev/null)" != "wasm-bindgen $version" ]]; then
   echo "web/build.sh: needs wasm-bindgen-cli $version" \
@@ -21,4 +22,6 @@ rm -rf web/dist
 "$bindgen" --target web --no-typescript --remove-name-section --remove-producers-section \
   --out-dir web/dist \
   target/wasm32-unknown-unknown/web/strata_web.wasm
+# The glue is an ES module: say so, for Node versions that do not guess.
+echo '{"type": "module"}' > web/dist/package.json
 ls -l web/dist

@@ -1,5 +1,6 @@
 //! Rendering a whole image: the scene's core structures built once, tiles
-//! spread over a rayon pool of exactly the requested number of threads.
+//! spread over a rayon pool of exactly the requested number of threads
+//! (one thread: the calling one, tile after tile, with its stack).
 //! Pixels do not depend on the thread count, the tile size or the order
 //! in which tiles finish: each tile renders into its own film and the
 //! films are placed (or, splatted, added in exact integers, whose sums
@@ -139,7 +140,8 @@ pub struct Job<'a> {
     pub sampler: SamplerKind,
     /// Seed of every sample stream.
     pub seed: u64,
-    /// Worker threads.
+    /// Worker threads (1: the calling thread renders, on its own stack;
+    /// more: a pool of that many, which lives for the render).
     pub threads: usize,
     /// Tile side in pixels.
     pub tile: u32,
@@ -212,7 +214,8 @@ pub struct Rendered {
     /// whole image.
     pub pixels: Vec<PixelSum>,
     /// Wall-clock time of the render: the BVH's build and the tracing
-    /// (not the merge of splatted tiles' borders, which follows).
+    /// (not the merge of splatted tiles' borders, which follows); 0 in a
+    /// browser (wasm32-unknown-unknown has no clock).
     pub wall: Duration,
     /// What was traced: camera paths, closest-hit rays, shadow rays (of
     /// every tile, those [`Resume::done`] brought included).
@@ -535,25 +538,26 @@ fn add_splatted(pixels: &mut [PixelSum], w: Tile, tile: Tile, layout: Layout, fi
 
 /// A render's wall clock: none in a browser (wasm32-unknown-unknown),
 /// whose `std` has no clock, where every duration reads 0.
-struct Clock(#[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))] std::time::Instant);
+struct Clock(#[cfg(not(all(target_family = "wasm", target_os = "unknown")))] std::time::Instant);
 
 impl Clock {
     fn now() -> Self {
         Clock(
-            #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+            #[cfg(not(all(target_family = "wasm", target_os = "unknown")))]
             std::time::Instant::now(),
         )
     }
 
     fn elapsed(&self) -> Duration {
-        #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+        #[cfg(not(all(target_family = "wasm", target_os = "unknown")))]
         return self.0.elapsed();
-        #[cfg(all(target_arch = "wasm32", target_os = "unknown"))]
+        #[cfg(all(target_family = "wasm", target_os = "unknown"))]
         Duration::ZERO
     }
 }
 
-/// Every tile of a job, in parallel, with one sampler kind.
+/// Every tile of a job, in parallel (or one after another), with one
+/// sampler kind.
 struct RenderAll<'a, 's> {
     job: &'a Job<'a>,
     scene: &'a Scene<'s>,
@@ -577,7 +581,8 @@ impl WithSampler for RenderAll<'_, '_> {
     }
 }
 
-/// The tiles of the job `all` does not skip, in parallel, until the stop
+/// The tiles of the job `all` does not skip, in parallel (tile after tile
+/// if `all.sequential`), until the stop
 /// flag is set.
 fn render_all<S: Sampler + Clone + Send + Sync>(
     all: &RenderAll<'_, '_>,

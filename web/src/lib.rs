@@ -5,7 +5,8 @@
 //! and a wrapper that turns its error into a JavaScript `Error`.
 //!
 //! Built by `web/build.sh` for `wasm32-unknown-unknown`; there a render
-//! runs on the calling thread (the page calls these from a Web Worker).
+//! runs on the calling thread (the page, still to come, will call these
+//! from a Web Worker).
 
 #![forbid(unsafe_code)]
 
@@ -16,8 +17,8 @@ use strata_runner::golden;
 use strata_runner::job::SamplerKind;
 use wasm_bindgen::prelude::*;
 
-/// The most samples [`sample_points`] draws (the page's slider ends at
-/// 1024).
+/// The most samples [`sample_points`] draws (the page's patterns are to
+/// go up to 1024).
 pub const MAX_POINTS: u32 = 4096;
 
 /// The most dimensions per sample [`sample_points`] draws.
@@ -43,7 +44,7 @@ pub fn golden_rows() -> String {
 /// digits, rendered on the calling thread.
 ///
 /// # Errors
-/// An unknown scene or key.
+/// A (scene, key) pair that is not a row of the table.
 ///
 /// ```
 /// let hash = strata_web::golden_value("week09", "scene").unwrap();
@@ -51,6 +52,9 @@ pub fn golden_rows() -> String {
 /// assert!(strata_web::golden_value("week09", "no such key").is_err());
 /// ```
 pub fn golden_value(scene: &str, key: &str) -> Result<String> {
+    if golden::expected(scene, key).is_none() {
+        bail!("({scene}, {key}) is not a row of the golden table");
+    }
     let data = golden::scene(scene)?;
     Ok(format!("{:016x}", golden::compute(scene, &data, key, 1)?))
 }
@@ -95,10 +99,21 @@ pub fn sample_points(kind: &str, n: u32, seed: u64, dims: u32) -> Result<Vec<f32
 }
 
 /// [`sample_points`] for JavaScript (errors become `Error`s; `seed` is a
-/// `BigInt`).
+/// `BigInt`). `n` and `dims` arrive as numbers, checked here: a
+/// fraction, a negative or a value past `u32` is refused, not wrapped.
 #[wasm_bindgen(js_name = samplePoints)]
-pub fn sample_points_js(kind: &str, n: u32, seed: u64, dims: u32) -> Result<Vec<f32>, JsError> {
-    sample_points(kind, n, seed, dims).map_err(|e| JsError::new(&format!("{e:#}")))
+pub fn sample_points_js(kind: &str, n: f64, seed: u64, dims: f64) -> Result<Vec<f32>, JsError> {
+    let count = |x: f64, what: &str| {
+        if x.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&x) {
+            Ok(x as u32)
+        } else {
+            Err(JsError::new(&format!(
+                "{what} must be a whole number from 0, not {x}"
+            )))
+        }
+    };
+    sample_points(kind, count(n, "n")?, seed, count(dims, "dims")?)
+        .map_err(|e| JsError::new(&format!("{e:#}")))
 }
 
 /// The output identity films carry (crate version and output revision),
@@ -135,6 +150,8 @@ mod tests {
             );
         }
         assert!(golden_value("no such scene", "sobol").is_err());
+        // Not a row, though both exist: refused, not computed.
+        assert!(golden_value("examples/scenes/materials.toml", "file.png").is_err());
     }
 
     /// Sample rows are the renderer's, bad requests are refused.

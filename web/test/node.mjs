@@ -36,21 +36,30 @@ check(cells.size === 16, `stratified 16 fills ${cells.size} of 16 strata`);
 const other = samplePoints("sobol", 16, 7n, 2);
 check(other.some((v, i) => v !== p[i]), "sobol's pattern differs from stratified's");
 
-// Bad input is an Error with the reason, not a trap.
-for (const [kind, n, dims] of [["nope", 4, 2], ["sobol", 0, 2], ["sobol", 5000, 2], ["sobol", 4, 0]]) {
+// Bad input is an Error that gives the reason, never a trap (a panic
+// would be a WebAssembly.RuntimeError).
+const refused = (call, reason, what) => {
   try {
-    samplePoints(kind, n, 1n, dims);
-    check(false, `samplePoints(${kind}, ${n}, ${dims}) was refused`);
+    call();
+    check(false, `${what} was refused`);
   } catch (e) {
-    check(e instanceof Error && e.message.length > 0, `samplePoints(${kind}, ${n}, ${dims}): ${e}`);
+    check(!(e instanceof WebAssembly.RuntimeError) && e instanceof Error && reason.test(e.message),
+      `${what}: ${e}`);
   }
+};
+for (const [kind, n, dims, reason] of [
+  ["nope", 4, 2, /unknown sampler/],
+  ["sobol", 0, 2, /1 to 4096/],
+  ["sobol", 5000, 2, /1 to 4096/],
+  ["sobol", 4, 0, /1 to 64/],
+  ["sobol", 2 ** 32 + 16, 2, /whole number/],
+  ["sobol", 4.5, 2, /whole number/],
+  ["sobol", -1, 2, /whole number/],
+]) {
+  refused(() => samplePoints(kind, n, 1n, dims), reason, `samplePoints(${kind}, ${n}, ${dims})`);
 }
-try {
-  goldenValue("no such scene", "sobol");
-  check(false, "an unknown scene was refused");
-} catch (e) {
-  check(e instanceof Error && /no such scene/.test(e.message), `unknown scene: ${e}`);
-}
+refused(() => goldenValue("no such scene", "sobol"), /not a row/, "an unknown scene");
+refused(() => goldenValue("examples/scenes/materials.toml", "file.png"), /not a row/, "a pair outside the table");
 check(/^\d+\.\d+\.\d+\+r\d+$/.test(outputVersion()), `output version ${outputVersion()}`);
 
 console.log(failed === 0 ? "web: all checks passed" : `web: ${failed} checks failed`);

@@ -687,8 +687,9 @@ enum StrataStatus strata_render_info(const struct StrataRender *render,
                                      struct StrataRenderInfo *info);
 
 /**
- * Renders the whole window on `threads` threads (a pool that lives for
- * this call only) into `film` (`film_width × film_height` pixels,
+ * Renders the whole window on `threads` threads (with 1, the calling
+ * thread, on its stack; with more, a pool that lives for this call
+ * only) into `film` (`film_width × film_height` pixels,
  * row-major, of [`strata_render_info`]). The sums are the same for any
  * thread count.
  *
