@@ -1,14 +1,23 @@
 #!/usr/bin/env bash
 # The browser page's tests (test.sh calls this): installs what the build
 # needs (the wasm32 target, wasm-bindgen-cli of the pinned version, into
-# target/tools), builds web/dist with web/build.sh, and runs the module
-# under Node (web/test/node.mjs: every golden row, sample patterns,
-# refusals).
+# target/tools), builds web/dist with web/build.sh, runs both modules
+# under Node (web/test/node.mjs: every golden row the page computes,
+# patterns, renders, refusals), then the page in headless Chromium
+# (web/test/browser.mjs, puppeteer-core from web/test/package-lock.json;
+# screenshots in target/web/).
+#
+# Needs Node.js with npm and Chromium (Debian: apt-get install nodejs npm
+# chromium); CHROMIUM names another browser binary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 version=$(sed -n 's/^wasm-bindgen = "=\(.*\)"$/\1/p' web/Cargo.toml)
 [[ -n "$version" ]] || { echo "web/test.sh: no exact wasm-bindgen version in web/Cargo.toml" >&2; exit 1; }
-command -v node >/dev/null || { echo "web/test.sh: needs Node.js (apt-get install nodejs)" >&2; exit 1; }
+for tool in node npm gzip; do
+  command -v $tool >/dev/null || { echo "web/test.sh: needs $tool (apt-get install nodejs npm gzip)" >&2; exit 1; }
+done
+chromium=${CHROMIUM:-$(command -v chromium || true)}
+[[ -x "$chromium" ]] || { echo "web/test.sh: needs Chromium (apt-get install chromium) or CHROMIUM=<binary>" >&2; exit 1; }
 rustup target list --installed | grep -qx wasm32-unknown-unknown ||
   rustup target add wasm32-unknown-unknown
 tools="$PWD/target/tools"
@@ -19,10 +28,13 @@ else
   export WASM_BINDGEN="$tools/bin/wasm-bindgen"
   if [[ "$("$WASM_BINDGEN" --version 2>/dev/null)" != "wasm-bindgen $version" ]]; then
     # The CLI's own lock file first; where the registry lacks one of its
-    # locked versions, the newest compatible ones.
-    cargo install --quiet --locked wasm-bindgen-cli --version "$version" --root "$tools" ||
-      cargo install --quiet wasm-bindgen-cli --version "$version" --root "$tools"
+    # locked versions, the newest compatible ones. No TLS stack: the page
+    # needs only the bindings generator.
+    cargo install --quiet --locked --no-default-features wasm-bindgen-cli --version "$version" --root "$tools" ||
+      cargo install --quiet --no-default-features wasm-bindgen-cli --version "$version" --root "$tools"
   fi
 fi
 bash web/build.sh
 node web/test/node.mjs
+(cd web/test && npm ci --no-audit --no-fund --loglevel=error)
+CHROMIUM="$chromium" node web/test/browser.mjs

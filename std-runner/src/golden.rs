@@ -383,15 +383,28 @@ pub fn rows() -> Vec<(&'static str, String)> {
 /// This build's value of the row (`name`, `key`) of the table, where
 /// `scene_data` is the scene `name` loads.
 pub fn compute(name: &str, scene_data: &SceneData, key: &str, threads: usize) -> Result<u64> {
-    if key == "scene" {
-        return Ok(scene_data.content_hash());
-    }
     if let Some(ext) = key.strip_prefix("file.") {
         let k = FILE_FORMATS
             .iter()
             .position(|f| *f == ext)
             .ok_or_else(|| anyhow!("golden key `{key}`: no such file format"))?;
         return Ok(file_hashes(scene_data, threads)?[k]);
+    }
+    compute_film(name, scene_data, key, threads)
+}
+
+/// [`compute`] for every row but the file rows: film and scene hashes,
+/// which need no image encoder (so a program that calls only this, such
+/// as the browser page, links none).
+///
+/// # Errors
+/// A file row, an unknown key, or a render's error.
+pub fn compute_film(name: &str, scene_data: &SceneData, key: &str, threads: usize) -> Result<u64> {
+    if key == "scene" {
+        return Ok(scene_data.content_hash());
+    }
+    if key.starts_with("file.") {
+        return Err(anyhow!("golden key `{key}` is a file row"));
     }
     if let Some((_, _, sampler, variant)) = VARIANTS.iter().find(|v| v.0 == name && v.1 == key) {
         return render_variant_hash(scene_data, *sampler, Some(*variant), threads);

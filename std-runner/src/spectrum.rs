@@ -124,8 +124,37 @@ pub fn spectrum_counted(
     r: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Spectrum> {
+    spectrum_of_dims(sampler, spp, seed, pixels, r, [0, 1], progress)
+}
+
+/// The most dimensions [`spectrum_of_dims`] draws per sample.
+pub const MAX_DIMS: u32 = 64;
+
+/// [`spectrum_counted`] of the 2-D projection of the samples onto the
+/// dimensions `dims` (x then y) of each sample's row, as the renderer
+/// draws it: `[0, 1]` is the position in the pixel, higher pairs what a
+/// path's bounces draw.
+///
+/// # Errors
+/// [`spectrum`]'s, and `dims` equal or past [`MAX_DIMS`].
+pub fn spectrum_of_dims(
+    sampler: SamplerKind,
+    spp: u32,
+    seed: u64,
+    pixels: u32,
+    r: u32,
+    dims: [u32; 2],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Spectrum> {
     if spp == 0 || pixels == 0 || r == 0 || r > MAX_RANGE {
         bail!("spectrum of {spp} spp over {pixels} pixels up to frequency {r}: out of range");
+    }
+    if dims[0] == dims[1] || dims.iter().any(|&d| d >= MAX_DIMS) {
+        bail!(
+            "spectrum of dimensions {} and {}: two different dimensions below {MAX_DIMS}",
+            dims[0],
+            dims[1]
+        );
     }
     // The pixels are a row-major run of a 64-pixel-wide image.
     let resolution = UVec2::new(64, pixels.div_ceil(64));
@@ -133,6 +162,7 @@ pub fn spectrum_counted(
         spp,
         pixels,
         r,
+        dims,
         progress,
     };
     let power = sampler.with_sampler(spp, seed, resolution, work)?;
@@ -150,6 +180,7 @@ struct Average<'p> {
     spp: u32,
     pixels: u32,
     r: u32,
+    dims: [u32; 2],
     progress: &'p (dyn Fn(u64) + Sync),
 }
 
@@ -165,8 +196,10 @@ fn average<S: Sampler + Clone + Send + Sync>(sampler: S, work: &Average<'_>) -> 
         spp,
         pixels,
         r,
+        dims,
         progress,
     } = work;
+    let row_len = dims[0].max(dims[1]) as usize + 1;
     let side = 2 * r as usize + 1;
     let one = |i: u32| {
         let mut s = sampler.clone();
@@ -175,11 +208,18 @@ fn average<S: Sampler + Clone + Send + Sync>(sampler: S, work: &Average<'_>) -> 
         let mut ex = vec![(0.0f64, 0.0f64); side];
         let mut ey = vec![(0.0f64, 0.0f64); side];
         let mut f = vec![(0.0f64, 0.0f64); side * side];
+        let mut row = vec![0.0f32; row_len];
         for k in 0..spp {
-            s.start_pixel_sample(pixel, k);
-            let p = s.pixel_2d();
-            powers(p.x as f64, r, &mut ex);
-            powers(p.y as f64, r, &mut ey);
+            let (x, y) = if dims == [0, 1] {
+                s.start_pixel_sample(pixel, k);
+                let p = s.pixel_2d();
+                (p.x, p.y)
+            } else {
+                s.fill_run(pixel, k, row_len, &mut row);
+                (row[dims[0] as usize], row[dims[1] as usize])
+            };
+            powers(x as f64, r, &mut ex);
+            powers(y as f64, r, &mut ey);
             for (row, &(yr, yi)) in f.chunks_exact_mut(side).zip(&ey) {
                 for (acc, &(xr, xi)) in row.iter_mut().zip(&ex) {
                     acc.0 += xr * yr - xi * yi;
@@ -509,6 +549,36 @@ mod tests {
         // One sample: |e^{…}|² / 1 = 1 everywhere.
         let s = spectrum(SamplerKind::Independent, 1, 0, 3, 5).unwrap();
         assert!(s.power.iter().all(|&p| (p - 1.0).abs() < 1e-9));
+    }
+
+    /// A projection's spectrum is of the dimensions asked for, in the
+    /// order asked for: (1, 0) is (0, 1) transposed, and both come from
+    /// the drawn rows, as the renderer draws them.
+    #[test]
+    fn projections_take_the_dimensions_asked_for() {
+        let of = |kind, dims| spectrum_of_dims(kind, 16, 3, 40, 6, dims, &|_| {}).unwrap();
+        for kind in SamplerKind::ALL {
+            let xy = of(kind, [0, 1]);
+            assert_eq!(xy.power, spectrum(kind, 16, 3, 40, 6).unwrap().power);
+            let yx = of(kind, [1, 0]);
+            for wy in -6..=6 {
+                for wx in -6..=6 {
+                    let (a, b) = (xy.at(wx, wy), yx.at(wy, wx));
+                    assert!(
+                        (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+                        "{kind:?} ({wx}, {wy})"
+                    );
+                }
+            }
+            // A bounce's pair is another pattern.
+            assert_ne!(of(kind, [2, 3]).power, xy.power, "{kind:?}");
+        }
+        // A 4 × 4 grid puts all its power at multiples of 4.
+        let grid = of(SamplerKind::Grid, [0, 1]);
+        assert!((grid.at(4, 0) - 16.0).abs() < 1e-6 && grid.at(1, 0) < 1e-6);
+        for bad in [[0, 0], [3, 3], [0, MAX_DIMS], [MAX_DIMS, 1]] {
+            assert!(spectrum_of_dims(SamplerKind::Sobol, 16, 3, 4, 6, bad, &|_| {}).is_err());
+        }
     }
 
     #[test]

@@ -1,14 +1,17 @@
-// The page's module under Node: the very files web/build.sh writes for
-// the browser (wasm-bindgen's `web` target, given the bytes instead of a
-// URL). Every golden row is computed in WebAssembly and compared with the
-// table, which the module carries: the bits match a native build's.
+// The page's modules under Node: the very files web/build.sh writes for
+// the browser (wasm-bindgen's `web` glue, given the inflated module
+// instead of a URL), the plain one and the simd128 one. Every golden row
+// the page computes is computed in WebAssembly by both and compared with
+// the table, which the module carries: the bits match a native build's.
 // Run by web/test.sh; exits non-zero on any mismatch.
 import { readFile } from "node:fs/promises";
+import { gunzipSync } from "node:zlib";
 import { exit } from "node:process";
-import init, { goldenRows, goldenValue, samplePoints, outputVersion } from "../dist/strata_web.js";
 
-const bytes = await readFile(new URL("../dist/strata_web_bg.wasm", import.meta.url));
-await init({ module_or_path: bytes });
+const modules = {};
+for (const name of ["strata_web.wasm.gz", "strata_web_simd128.wasm.gz"]) {
+  modules[name] = gunzipSync(await readFile(new URL(`../dist/${name}`, import.meta.url)));
+}
 
 let failed = 0;
 const check = (ok, what) => {
@@ -18,14 +21,27 @@ const check = (ok, what) => {
   }
 };
 
-const rows = goldenRows().trim().split("\n").map((l) => l.split(" "));
-check(rows.length > 50, `${rows.length} golden rows`);
-const started = Date.now();
-for (const [scene, key, want] of rows) {
-  const got = goldenValue(scene, key);
-  check(got === want, `${scene} ${key}: ${got}, table ${want}`);
+check(Buffer.compare(modules["strata_web.wasm.gz"], modules["strata_web_simd128.wasm.gz"]) !== 0,
+  "the simd128 module differs from the plain one");
+let rows = [];
+let glue = null;
+// The plain module last: the checks below run on it. The glue holds one
+// instance, so each module gets its own copy of it (another URL).
+for (const name of ["strata_web_simd128.wasm.gz", "strata_web.wasm.gz"]) {
+  glue = await import(`../dist/strata_web.js?${name}`);
+  await glue.default({ module_or_path: modules[name] });
+  const { goldenRows, goldenValue } = glue;
+  rows = goldenRows().trim().split("\n").map((l) => l.split(" "));
+  check(rows.length >= 40, `${rows.length} golden rows`);
+  const started = Date.now();
+  for (const [scene, key, want] of rows) {
+    const got = goldenValue(scene, key);
+    check(got === want, `${name}: ${scene} ${key}: ${got}, table ${want}`);
+  }
+  console.log(`${name}: ${rows.length} golden rows computed in WebAssembly in ${(Date.now() - started) / 1000} s`);
 }
-console.log(`${rows.length} golden rows computed in WebAssembly in ${(Date.now() - started) / 1000} s`);
+
+const { goldenValue, samplePoints, outputVersion, render, periodogram, rmse } = glue;
 
 // The page's sample patterns: the renderer's rows, one per stratum.
 const p = samplePoints("stratified", 16, 7n, 2);
@@ -58,8 +74,40 @@ for (const [kind, n, dims, reason] of [
 ]) {
   refused(() => samplePoints(kind, n, 1n, dims), reason, `samplePoints(${kind}, ${n}, ${dims})`);
 }
-refused(() => goldenValue("no such scene", "sobol"), /not a row/, "an unknown scene");
-refused(() => goldenValue("examples/scenes/materials.toml", "file.png"), /not a row/, "a pair outside the table");
+refused(() => goldenValue("no such scene", "sobol"), /not a golden row/, "an unknown scene");
+refused(() => goldenValue("examples/scenes/materials.toml", "file.png"), /not a golden row/,
+  "a pair outside the table");
+refused(() => goldenValue("week09", "file.png"), /not a golden row/, "a file row");
+
+// A render: sizes, codes, the adaptive map; bad settings refused.
+const frame = render("week09", "sobol", "box", false, false, 16, 9, 4, 1n);
+check(frame.width === 16 && frame.height === 9 && frame.samples === 16 * 9 * 4, "a 16x9 frame of 4 spp");
+check(frame.rgba().length === 16 * 9 * 4 && frame.linear().length === 16 * 9 * 3, "frame buffers");
+check(frame.rgba().filter((_, i) => i % 4 === 3).every((a) => a === 255), "opaque pixels");
+check(rmse(frame.linear(), frame.linear()) === 0, "an image's RMSE against itself");
+const another = render("week09", "independent", "box", false, false, 16, 9, 4, 1n);
+check(rmse(frame.linear(), another.linear()) > 0, "two samplers' images differ");
+const adaptive = render("caustics", "sobol", "box", true, false, 16, 9, 64, 1n);
+check(adaptive.samples >= 16 * 16 * 9 && adaptive.samples < 64 * 16 * 9, `adaptive samples ${adaptive.samples}`);
+for (const [args, reason] of [
+  [["nope", "sobol", "box", false, false, 16, 9, 4, 1n], /unknown scene/],
+  [["week09", "nope", "box", false, false, 16, 9, 4, 1n], /unknown sampler/],
+  [["week09", "sobol", "nope", false, false, 16, 9, 4, 1n], /unknown pixel filter/],
+  [["week09", "sobol", "box", false, false, 0, 9, 4, 1n], /pixels/],
+  [["week09", "sobol", "box", false, false, 4096, 4096, 4, 1n], /pixels/],
+  [["week09", "sobol", "box", false, false, 1024, 1024, 1024, 1n], /samples in all/],
+  [["week09", "sobol", "box", false, false, 16.5, 9, 4, 1n], /whole number/],
+]) {
+  refused(() => render(...args), reason, `render(${args.slice(0, 8).join(", ")})`);
+}
+refused(() => rmse(new Float32Array(3), new Float32Array(6)), /equal/, "rmse of different sizes");
+
+// The periodogram: a 4 x 4 grid has its power at multiples of 4.
+const grid = periodogram("grid", 16, 1n, 0, 1, 4, 8);
+const at = (wx, wy) => grid.power()[(wy + 8) * 17 + wx + 8];
+check(Math.abs(at(4, 0) - 16) < 1e-3 && at(1, 0) < 1e-3 && grid.radial().length === 8, "the grid's periodogram");
+refused(() => periodogram("sobol", 16, 1n, 2, 2, 4, 8), /different dimensions/, "a periodogram of one dimension");
+refused(() => periodogram("sobol", 16, 1n, 0, 1, 4, 129), /out of range/, "a periodogram past frequency 128");
 check(/^\d+\.\d+\.\d+\+r\d+$/.test(outputVersion()), `output version ${outputVersion()}`);
 
 console.log(failed === 0 ? "web: all checks passed" : `web: ${failed} checks failed`);

@@ -1,0 +1,141 @@
+// The page in a real browser: Debian's Chromium, headless, driven by
+// puppeteer-core (no browser download). Serves web/dist from a local
+// server that counts the bytes it sends, then checks that the page
+//   - loads with no console error, failed request or uncaught exception,
+//   - computes the golden configuration's film hash equal to the row of
+//     std-runner/src/golden.rs (read from the source, not from the page),
+//     with the simd128 module and again with the plain one (`?simd=0`),
+//   - redraws the sample pattern and its spectrum when the sampler changes,
+//   - draws the aliasing panel, the live passes and the error plot,
+//   - downloads less than 2 MB in all.
+// Screenshots go to target/web/. Reports (never judges) the first
+// contentful paint and the live panel's render speed.
+// Run by web/test.sh (after web/build.sh); CHROMIUM names the browser.
+import { createServer } from "node:http";
+import { readFile, mkdir } from "node:fs/promises";
+import { extname, join, normalize } from "node:path";
+import { exit, getuid } from "node:process";
+import puppeteer from "puppeteer-core";
+
+const root = new URL("../..", import.meta.url).pathname;
+const dist = join(root, "web/dist");
+const shots = join(root, "target/web");
+await mkdir(shots, { recursive: true });
+const BUDGET = 2_000_000;
+const GOLDEN = ["week09", "sobol"];
+
+// The table's value, from the Rust source the native builds check.
+const source = await readFile(join(root, "std-runner/src/golden.rs"), "utf8");
+const row = source.match(new RegExp(`\\("${GOLDEN[0]}", "${GOLDEN[1]}", 0x([0-9a-f]{16})\\)`));
+if (!row) throw new Error(`no golden row ${GOLDEN.join(" ")} in golden.rs`);
+const want = row[1];
+
+const TYPES = {
+  ".html": "text/html; charset=utf-8", ".js": "text/javascript", ".css": "text/css", ".gz": "application/gzip",
+};
+let served = 0;
+const server = createServer(async (req, res) => {
+  const path = normalize(decodeURIComponent(new URL(req.url, "http://x").pathname));
+  const file = join(dist, path.endsWith("/") ? `${path}index.html` : path);
+  try {
+    if (!file.startsWith(dist)) throw new Error("outside dist");
+    const body = await readFile(file);
+    served += body.length;
+    // No caching: every load counts its whole download.
+    res.writeHead(200, { "content-type": TYPES[extname(file)] ?? "application/octet-stream",
+      "content-length": body.length, "cache-control": "no-store" });
+    res.end(body);
+  } catch {
+    res.writeHead(404);
+    res.end();
+  }
+});
+await new Promise((r) => server.listen(0, "127.0.0.1", r));
+const base = `http://127.0.0.1:${server.address().port}/`;
+
+let failed = 0;
+const check = (ok, what) => {
+  console.log(`${ok ? "ok" : "FAILED"}: ${what}`);
+  if (!ok) failed += 1;
+};
+
+const browser = await puppeteer.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  headless: true,
+  // Chromium's sandbox refuses to run as root.
+  args: getuid?.() === 0 ? ["--no-sandbox"] : [],
+});
+const problems = [];
+async function open(query) {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 900 });
+  page.on("console", (m) => m.type() === "error" && problems.push(`console: ${m.text()}`));
+  page.on("pageerror", (e) => problems.push(`exception: ${e.message}`));
+  page.on("requestfailed", (r) => problems.push(`request failed: ${r.url()} (${r.failure()?.errorText})`));
+  page.on("response", (r) => r.status() >= 400 && problems.push(`HTTP ${r.status()}: ${r.url()}`));
+  served = 0;
+  await page.goto(base + query, { waitUntil: "load" });
+  await page.waitForFunction(() => document.getElementById("module").dataset.state !== "loading",
+    { timeout: 60_000 });
+  return page;
+}
+const text = (page, sel) => page.$eval(sel, (e) => e.textContent);
+const canvas = (page, id) => page.$eval(`#${id}`, (c) => c.toDataURL());
+
+async function golden(page, label) {
+  await page.waitForFunction(() => document.getElementById("g-match").dataset.state !== "pending",
+    { timeout: 60_000 });
+  const got = await text(page, "#g-got");
+  check(got === want, `${label}: the page's ${GOLDEN.join(" ")} film hash ${got} is the table's ${want}`);
+  check(await page.$eval("#g-match", (e) => e.dataset.state) === "same", `${label}: the page says the bits match`);
+}
+
+try {
+  // simd128 (Chromium has WebAssembly SIMD).
+  const page = await open("");
+  check(await page.$eval("#module", (e) => e.dataset.state) === "ready", `module: ${await text(page, "#module")}`);
+  check(await page.$eval("#module", (e) => e.dataset.simd) === "true", "the simd128 module was chosen");
+  await golden(page, "simd128");
+
+  // Sample patterns: another sampler, another pattern and spectrum.
+  const drawn = (prefix) => page.waitForFunction((p) => (document.getElementById("patterns").dataset.drawn || "")
+    .startsWith(p), { timeout: 60_000 }, prefix);
+  await drawn("stratified 64 0 1");
+  const before = [await canvas(page, "points"), await canvas(page, "spectrum"), await canvas(page, "radial")];
+  await page.screenshot({ path: join(shots, "patterns-stratified.png") });
+  await page.select("#p-sampler", "grid");
+  await drawn("grid 64 0 1");
+  const after = [await canvas(page, "points"), await canvas(page, "spectrum"), await canvas(page, "radial")];
+  ["points", "spectrum", "radial average"].forEach((what, i) => check(before[i] !== after[i],
+    `changing the sampler redraws the ${what}`));
+  await page.screenshot({ path: join(shots, "patterns-grid.png") });
+
+  // Aliasing, then the live panel's passes and its error plot.
+  await page.waitForFunction(() => document.getElementById("aliasing").dataset.drawn, { timeout: 60_000 });
+  const aliasing = [await canvas(page, "a-grid"), await canvas(page, "a-jitter"), await canvas(page, "a-prefilter")];
+  check(new Set(aliasing).size === 3, "the three aliasing panels differ");
+  await page.waitForFunction(() => document.getElementById("live").dataset.passes === "14" &&
+    document.getElementById("live").dataset.plotted === "14", { timeout: 180_000 });
+  check(true, `live: ${(await page.$$eval(".l-status", (e) => e.map((x) => x.textContent))).join(" | ")}`);
+  const fcp = await page.evaluate(() => performance.getEntriesByName("first-contentful-paint")[0]?.startTime);
+  console.log(`first contentful paint: ${fcp?.toFixed(0)} ms (local server, cold cache)`);
+  await page.screenshot({ path: join(shots, "page-simd128.png"), fullPage: true });
+  check(served < BUDGET, `the page downloaded ${served} bytes (budget ${BUDGET})`);
+  await page.close();
+
+  // The plain module (browsers without WebAssembly SIMD).
+  const plain = await open("?simd=0");
+  check(await plain.$eval("#module", (e) => e.dataset.simd) === "false", `plain: ${await text(plain, "#module")}`);
+  await golden(plain, "plain");
+  await plain.waitForFunction(() => document.getElementById("patterns").dataset.drawn, { timeout: 60_000 });
+  check(served < BUDGET, `the plain page downloaded ${served} bytes (budget ${BUDGET})`);
+  await plain.screenshot({ path: join(shots, "page-plain.png") });
+  await plain.close();
+} catch (e) {
+  check(false, `the browser test ran to its end: ${e.message}`);
+}
+check(problems.length === 0, `no console errors, exceptions or failed requests${problems.length ? `:\n  ${problems.join("\n  ")}` : ""}`);
+await browser.close();
+server.close();
+console.log(failed === 0 ? "browser: all checks passed" : `browser: ${failed} checks failed`);
+exit(failed === 0 ? 0 : 1);
