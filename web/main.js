@@ -301,7 +301,7 @@ async function updateLive(render, quick, refWorker, gen) {
     $("error-caption").textContent = `RMSE (linear RGB) against a reference of ${scene}: ${REFERENCE.sampler}, ` +
       `${REFERENCE.spp} samples per pixel, ${LIVE.width}×${LIVE.height}, seed ${REFERENCE.seed}, rendered in this ` +
       `page's worker (not downloaded) — ${state}. Its own noise sets a floor under both curves; the dashed ` +
-      "line falls as N^−½, Monte Carlo's rate.";
+      "line falls as 1/√N, Monte Carlo's rate.";
   };
   caption("rendering");
   const plot = async () => {

@@ -6,7 +6,8 @@
 //     std-runner/src/golden.rs (read from the source, not from the page),
 //     with the simd128 module and again with the plain one (`?simd=0`),
 //   - redraws the sample pattern and its spectrum when the sampler changes,
-//   - draws the aliasing panel, the live passes and the error plot,
+//   - draws the aliasing panel, the live passes and the error plot, and
+//     an adaptive sampling map once B turns adaptive,
 //   - downloads less than 2 MB in all.
 // Screenshots go to target/web/. Reports (never judges) the first
 // contentful paint and the live panel's render speed.
@@ -117,6 +118,18 @@ try {
   await page.waitForFunction(() => document.getElementById("live").dataset.passes === "14" &&
     document.getElementById("live").dataset.plotted === "14", { timeout: 180_000 });
   check(true, `live: ${(await page.$$eval(".l-status", (e) => e.map((x) => x.textContent))).join(" | ")}`);
+  // Adaptive sampling on B: its passes (from 32 spp) and a map that is
+  // not one colour.
+  await page.click("#side-b .l-adaptive");
+  await page.waitForFunction(() => document.getElementById("live").dataset.passes === "9",
+    { timeout: 180_000 });
+  const heat = await page.$eval("#side-b .l-heat", (c) => {
+    const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+    const colours = new Set();
+    for (let i = 0; i < d.length; i += 4) colours.add(`${d[i]},${d[i + 1]},${d[i + 2]}`);
+    return colours.size;
+  });
+  check(heat > 1, `the adaptive map shows where samples went (${heat} colours)`);
   const fcp = await page.evaluate(() => performance.getEntriesByName("first-contentful-paint")[0]?.startTime);
   console.log(`first contentful paint: ${fcp?.toFixed(0)} ms (local server, cold cache)`);
   await page.screenshot({ path: join(shots, "page-simd128.png"), fullPage: true });
