@@ -36,7 +36,7 @@ build() {
 }
 build plain "" & plain=$!
 build simd128 "-C target-feature=+simd128" & simd=$!
-wait $plain || { echo "web/build.sh: the plain module failed to build" >&2; exit 1; }
+wait $plain || { kill $simd 2>/dev/null; echo "web/build.sh: the plain module failed to build" >&2; exit 1; }
 wait $simd || { echo "web/build.sh: the simd128 module failed to build" >&2; exit 1; }
 for variant in plain simd128; do
   "$bindgen" --target web --no-typescript --remove-name-section --remove-producers-section \

@@ -1,7 +1,7 @@
-// The page: loads Strata's WebAssembly module once, hands it to three
-// workers (patterns and the golden check; renders; the live panel's
-// reference) and draws what they return. All numbers come from the
-// module; this file only draws them.
+// The page: loads Strata's WebAssembly module once, hands it to four
+// workers (patterns and the golden check; aliasing; the live passes; the
+// live panel's reference) and draws what they return. All numbers come
+// from the module; this file only draws them.
 
 // A tiny module using SIMD instructions (i8x16.splat, i8x16.popcnt):
 // valid only where the browser has WebAssembly SIMD.
@@ -39,31 +39,80 @@ async function loadModule() {
   const file = SIMD ? "strata_web_simd128.wasm.gz" : "strata_web.wasm.gz";
   const res = await fetch(file);
   if (!res.ok) throw new Error(`${file}: HTTP ${res.status}`);
-  const packed = Number(res.headers.get("content-length")) || 0;
-  const bytes = await new Response(res.body.pipeThrough(new DecompressionStream("gzip"))).arrayBuffer();
+  const got = new Uint8Array(await res.arrayBuffer());
+  let bytes = got;
+  // A server that sends .gz files with Content-Encoding: gzip has the
+  // browser inflate them already: then the bytes are the module itself.
+  if (got[0] === 0x1f && got[1] === 0x8b) {
+    if (typeof DecompressionStream === "undefined") {
+      throw new Error("this browser lacks DecompressionStream (Chrome 80, Firefox 113, Safari 16.4 have it)");
+    }
+    const inflated = new Blob([got]).stream().pipeThrough(new DecompressionStream("gzip"));
+    bytes = new Uint8Array(await new Response(inflated).arrayBuffer());
+  } else if (!(got[0] === 0 && got[1] === 0x61 && got[2] === 0x73 && got[3] === 0x6d)) {
+    throw new Error(`${file} is neither gzip nor WebAssembly`);
+  }
+  const packed = Number(res.headers.get("content-length")) || got.byteLength;
   return { module: await WebAssembly.compile(bytes), file, packed, size: bytes.byteLength };
 }
 
+// A request a restart dropped: its caller has moved on.
+class Cancelled extends Error {}
+
 // A worker and its pending requests; `call` resolves to {result, ms}.
+// `restart()` drops what it is doing (a new instance of the module in a
+// new worker; the compiled module is shared); so does a worker that
+// failed or trapped, for the requests after it.
 function startWorker(module) {
-  const w = new Worker("worker.js", { type: "module" });
-  const pending = new Map();
+  let w = null;
+  let pending = new Map();
   let next = 0;
-  const ready = new Promise((resolve, reject) => {
-    w.onmessage = (e) => {
-      const m = e.data;
-      if (m.type === "ready") return resolve(m);
-      if (m.type === "failed") return reject(new Error(m.error));
-      const p = pending.get(m.id);
-      pending.delete(m.id);
-      if (m.ok) p.resolve(m);
-      else p.reject(new Error(m.error));
-    };
-    w.onerror = (e) => reject(new Error(e.message || "the worker failed to start"));
-  });
-  w.postMessage({ type: "init", module });
+  let ready = null;
+  const dropAll = (error) => {
+    for (const p of pending.values()) p.reject(error);
+    pending = new Map();
+  };
+  const spawn = () => {
+    w = new Worker("worker.js", { type: "module" });
+    ready = new Promise((resolve, reject) => {
+      w.onmessage = (e) => {
+        const m = e.data;
+        if (m.type === "ready") return resolve(m);
+        if (m.type === "failed") return reject(new Error(m.error));
+        const p = pending.get(m.id);
+        if (!p) return;
+        pending.delete(m.id);
+        if (m.ok) p.resolve(m);
+        else p.reject(new Error(m.error));
+        // A trap may leave the instance broken: the next request gets a
+        // fresh one.
+        if (m.trap) restart();
+      };
+      const broken = (what) => (e) => {
+        const error = new Error(`${what}: ${e.message || "the worker failed"}`);
+        reject(error);
+        dropAll(error);
+      };
+      w.onerror = broken("worker error");
+      w.onmessageerror = broken("worker message error");
+    });
+    ready.catch(() => {});
+    w.postMessage({ type: "init", module });
+  };
+  const restart = () => {
+    w.terminate();
+    dropAll(new Cancelled("cancelled"));
+    spawn();
+  };
+  spawn();
   return {
-    ready,
+    get ready() {
+      return ready;
+    },
+    get busy() {
+      return pending.size > 0;
+    },
+    restart,
     call(op, ...args) {
       return new Promise((resolve, reject) => {
         const id = next++;
@@ -100,11 +149,23 @@ async function updatePatterns(quick) {
   const n = 2 ** Number($("p-count").value);
   const dx = Number($("p-dx").value);
   const dy = Number($("p-dy").value);
-  const seed = Math.max(0, Math.floor(Number($("p-seed").value) || 0));
+  // A whole number the input box allows (u64 in the module; kept small).
+  const seed = Math.min(1e6, Math.max(0, Math.floor(Number($("p-seed").value) || 0)));
   $("p-count-out").textContent = n;
   $("p-n").textContent = n;
   if (dx === dy) {
     $("p-pixels").textContent = "–";
+    for (const id of ["points", "spectrum", "radial"]) {
+      const c = $(id);
+      const g = c.getContext("2d");
+      g.fillStyle = "#fff";
+      g.fillRect(0, 0, c.width, c.height);
+    }
+    const g = $("points").getContext("2d");
+    g.fillStyle = "#333";
+    g.font = "14px system-ui, sans-serif";
+    g.fillText("Pick two different dimensions.", 20, 30);
+    $("patterns").dataset.drawn = `none ${dx} ${dy}`;
     return;
   }
   // About 16k samples in all: a steady average at any count.
@@ -265,17 +326,29 @@ async function updateAliasing(render) {
 const LIVE = { width: 160, height: 90, seed: 1 };
 // The reference: rendered in its own worker, while the passes render.
 const REFERENCE = { sampler: "sobol", spp: 1024, seed: 1000003 };
+// Finished references by scene; the one in flight, if any.
 const references = new Map();
+let referenceInFlight = null;
 let liveGen = 0;
 
+// The reference of `scene`: the finished one, the one in flight, or a new
+// one (a reference of another scene in flight is dropped first).
 function reference(refWorker, scene) {
-  if (!references.has(scene)) {
-    references.set(scene, refWorker.call("render", {
-      scene, sampler: REFERENCE.sampler, filter: "box", adaptive: false, textureBox: false,
-      width: LIVE.width, height: LIVE.height, spp: REFERENCE.spp, seed: REFERENCE.seed,
-    }).then((m) => ({ linear: m.result.linear, ms: m.ms })));
-  }
-  return references.get(scene);
+  if (references.has(scene)) return Promise.resolve(references.get(scene));
+  if (referenceInFlight?.scene === scene) return referenceInFlight.promise;
+  if (refWorker.busy) refWorker.restart();
+  const promise = refWorker.call("render", {
+    scene, sampler: REFERENCE.sampler, filter: "box", adaptive: false, textureBox: false,
+    width: LIVE.width, height: LIVE.height, spp: REFERENCE.spp, seed: REFERENCE.seed,
+  }).then((m) => {
+    const r = { linear: m.result.linear, ms: m.ms };
+    references.set(scene, r);
+    return r;
+  }).finally(() => {
+    if (referenceInFlight?.promise === promise) referenceInFlight = null;
+  });
+  referenceInFlight = { scene, promise };
+  return promise;
 }
 
 function sideSettings(id) {
@@ -288,20 +361,32 @@ function sideSettings(id) {
   };
 }
 
+function clear(canvas) {
+  const g = canvas.getContext("2d");
+  g.fillStyle = "#f4f4f4";
+  g.fillRect(0, 0, canvas.width, canvas.height);
+}
+
 async function updateLive(render, quick, refWorker, gen) {
-  if (gen !== liveGen) return;
   const scene = $("l-scene").value;
   const max = Number($("l-max").value);
   const sides = [sideSettings("side-a"), sideSettings("side-b")];
   const curves = [[], []];
   const pixels = LIVE.width * LIVE.height;
+  const run = `${scene} ${max} ${sides.map((s) => `${s.sampler} ${s.filter} ${s.adaptive}`).join(" ")}`;
   $("live").dataset.passes = "0";
+  $("live").dataset.run = "";
+  for (const s of sides) {
+    for (const c of s.el.querySelectorAll("canvas")) clear(c);
+    s.el.querySelector(".l-status").textContent = "rendering…";
+  }
   let ref = null;
   const caption = (state) => {
     $("error-caption").textContent = `RMSE (linear RGB) against a reference of ${scene}: ${REFERENCE.sampler}, ` +
-      `${REFERENCE.spp} samples per pixel, ${LIVE.width}×${LIVE.height}, seed ${REFERENCE.seed}, rendered in this ` +
-      `page's worker (not downloaded) — ${state}. Its own noise sets a floor under both curves; the dashed ` +
-      "line falls as 1/√N, Monte Carlo's rate.";
+      `${REFERENCE.spp} samples per pixel, box filter, ${LIVE.width}×${LIVE.height}, seed ${REFERENCE.seed}, ` +
+      `rendered in this page's worker (not downloaded) — ${state}. Its own noise sets a floor under both ` +
+      "curves; a side with another filter levels off at that filter's blur too. The dashed line falls as " +
+      "1/√N, Monte Carlo's rate.";
   };
   caption("rendering");
   const plot = async () => {
@@ -315,16 +400,18 @@ async function updateLive(render, quick, refWorker, gen) {
     if (gen !== liveGen) return;
     ref = r;
     caption(`${(r.ms / 1000).toFixed(1)} s`);
-    plot().catch((e) => fail("error plot", e));
-  }).catch((e) => fail("reference", e));
+    return plot();
+  }).catch((e) => {
+    if (!(e instanceof Cancelled) && gen === liveGen) fail("reference", e);
+  });
   drawError(curves, sides, max);
   let passes = 0;
   for (let spp = 1; spp <= max; spp *= 2) {
     for (const [k, s] of sides.entries()) {
       const status = s.el.querySelector(".l-status");
-      // An adaptive pass needs a pilot of at least 8 samples (spp / 4).
-      if (s.adaptive && spp < 32) {
-        status.textContent = "adaptive: passes from 32 samples per pixel";
+      // Adaptive sampling needs a pilot of at least 8 samples.
+      if (s.adaptive && spp < 8) {
+        status.textContent = "adaptive: passes from 8 samples per pixel";
         continue;
       }
       const f = await render.call("render", {
@@ -343,7 +430,10 @@ async function updateLive(render, quick, refWorker, gen) {
       await plot();
     }
   }
-  if (gen === liveGen) $("live").dataset.passes = String(passes);
+  if (gen === liveGen) {
+    $("live").dataset.passes = String(passes);
+    $("live").dataset.run = run;
+  }
 }
 
 function drawError(curves, sides, max) {
@@ -398,40 +488,45 @@ async function runGolden(quick, rows) {
 
 async function main() {
   const { module, file, packed, size } = await loadModule();
-  const [quick, render, refWorker] = [0, 1, 2].map(() => startWorker(module));
+  // Patterns and the golden check; aliasing; the live passes; the
+  // reference: each panel waits only for its own work.
+  const [quick, alias, render, refWorker] = [0, 1, 2, 3].map(() => startWorker(module));
   const info = await quick.ready;
-  await Promise.all([render.ready, refWorker.ready]);
+  await Promise.all([alias.ready, render.ready, refWorker.ready]);
   // The workers, for the browser test's speed report and the console:
   // `await strata.render.call("render", {...})`.
-  window.strata = { quick, render, reference: refWorker };
+  window.strata = { quick, alias, render, reference: refWorker };
   const m = $("module");
   m.dataset.state = "ready";
   m.dataset.simd = String(SIMD);
   m.textContent = `Module: ${SIMD ? "WebAssembly SIMD (simd128)" : "plain WebAssembly (no SIMD)"}, ${file} ` +
     `(${(packed / 1e6).toFixed(2)} MB compressed, ${(size / 1e6).toFixed(2)} MB), output ${info.version}.`;
+  const ignoreCancelled = (what) => (e) => e instanceof Cancelled || fail(what, e);
 
   fillSelect($("p-sampler"), KINDS, "stratified");
   const dims = Array.from({ length: 16 }, (_, i) => String(i));
   fillSelect($("p-dx"), dims, "0");
   fillSelect($("p-dy"), dims, "1");
-  const patterns = () => updatePatterns(quick).catch((e) => fail("sample patterns", e));
+  const patterns = () => updatePatterns(quick).catch(ignoreCancelled("sample patterns"));
   for (const id of ["p-sampler", "p-count", "p-dx", "p-dy", "p-seed"]) $(id).addEventListener("input", patterns);
 
-  const aliasing = () => updateAliasing(render).catch((e) => fail("aliasing", e));
+  const aliasing = () => updateAliasing(alias).catch(ignoreCancelled("aliasing"));
   $("a-spp").addEventListener("input", aliasing);
 
-  for (const [id, sampler, adaptive] of [["side-a", "independent", false], ["side-b", "zsobol", false]]) {
+  for (const [id, sampler] of [["side-a", "independent"], ["side-b", "zsobol"]]) {
     const el = $(id);
     fillSelect(el.querySelector(".l-sampler"), KINDS, sampler);
     fillSelect(el.querySelector(".l-filter"), FILTERS, "box");
-    el.querySelector(".l-adaptive").checked = adaptive;
+    el.querySelector(".l-adaptive").checked = false;
   }
-  // One live run at a time: a change stops the running one (at its next
-  // pass) and queues the new one.
-  let chain = Promise.resolve();
+  // A change stops the running live run at once (its worker restarts)
+  // and starts the new one.
   const live = () => {
     const gen = ++liveGen;
-    chain = chain.then(() => updateLive(render, quick, refWorker, gen)).catch((e) => fail("live render", e));
+    if (render.busy) render.restart();
+    updateLive(render, quick, refWorker, gen).catch((e) => {
+      if (!(e instanceof Cancelled) && gen === liveGen) fail("live render", e);
+    });
   };
   for (const el of document.querySelectorAll("#live select, #live input")) el.addEventListener("input", live);
 
@@ -440,13 +535,13 @@ async function main() {
     return [`${scene} ${key}`, hash];
   }));
   fillSelect($("g-row"), [...rows.keys()], "week09 sobol");
-  const golden = () => runGolden(quick, rows).catch((e) => fail("golden check", e));
+  const golden = () => runGolden(quick, rows).catch(ignoreCancelled("golden check"));
   $("g-run").addEventListener("click", golden);
   $("g-row").addEventListener("input", golden);
 
   golden();
   patterns();
-  chain = updateAliasing(render).catch((e) => fail("aliasing", e));
+  aliasing();
   live();
 }
 

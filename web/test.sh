@@ -7,17 +7,25 @@
 # (web/test/browser.mjs, puppeteer-core from web/test/package-lock.json;
 # screenshots in target/web/).
 #
-# Needs Node.js with npm and Chromium (Debian: apt-get install nodejs npm
-# chromium); CHROMIUM names another browser binary.
+# Needs Node.js with npm, gzip and Chromium (installs Debian's nodejs,
+# npm, gzip and chromium with apt-get when missing); CHROMIUM names
+# another browser binary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 version=$(sed -n 's/^wasm-bindgen = "=\(.*\)"$/\1/p' web/Cargo.toml)
 [[ -n "$version" ]] || { echo "web/test.sh: no exact wasm-bindgen version in web/Cargo.toml" >&2; exit 1; }
-for tool in node npm gzip; do
-  command -v $tool >/dev/null || { echo "web/test.sh: needs $tool (apt-get install nodejs npm gzip)" >&2; exit 1; }
-done
-chromium=${CHROMIUM:-$(command -v chromium || true)}
-[[ -x "$chromium" ]] || { echo "web/test.sh: needs Chromium (apt-get install chromium) or CHROMIUM=<binary>" >&2; exit 1; }
+need=()
+command -v node >/dev/null || need+=(nodejs)
+command -v npm >/dev/null || need+=(npm)
+command -v gzip >/dev/null || need+=(gzip)
+[[ -n "${CHROMIUM:-}" ]] || command -v chromium >/dev/null || need+=(chromium)
+if ((${#need[@]})); then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq && apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null ||
+    { echo "web/test.sh: needs ${need[*]} (Debian: apt-get install ${need[*]})" >&2; exit 1; }
+fi
+chromium=${CHROMIUM:-$(command -v chromium)}
+[[ -x "$chromium" ]] || { echo "web/test.sh: CHROMIUM=$chromium is not a program" >&2; exit 1; }
 rustup target list --installed | grep -qx wasm32-unknown-unknown ||
   rustup target add wasm32-unknown-unknown
 tools="$PWD/target/tools"

@@ -3,7 +3,7 @@
 // requests one at a time, so renders never block the page.
 //
 // Request: {id, op, args}. Reply: {id, ok: true, result, ms} or
-// {id, ok: false, error}. After init: {type: "ready", version} or
+// {id, ok: false, trap, error}. After init: {type: "ready", version} or
 // {type: "failed", error}.
 
 let wasm = null;
@@ -14,18 +14,17 @@ const ops = {
   rows: () => [wasm.goldenRows(), []],
   golden: (scene, key) => [wasm.goldenValue(scene, key), []],
   points: (kind, n, seed, dims) => {
-    const p = wasm.samplePoints(kind, n, BigInt(seed), dims);
+    const p = wasm.samplePoints(kind, n, seed, dims);
     return [p, [p.buffer]];
   },
   periodogram: (kind, n, seed, dimX, dimY, pixels, r) => {
-    const s = wasm.periodogram(kind, n, BigInt(seed), dimX, dimY, pixels, r);
+    const s = wasm.periodogram(kind, n, seed, dimX, dimY, pixels, r);
     const out = { r: s.r, power: s.power(), radial: s.radial() };
     s.free();
     return [out, [out.power.buffer, out.radial.buffer]];
   },
   render: (s) => {
-    const f = wasm.render(s.scene, s.sampler, s.filter, s.adaptive, s.textureBox, s.width, s.height, s.spp,
-      BigInt(s.seed));
+    const f = wasm.render(s.scene, s.sampler, s.filter, s.adaptive, s.textureBox, s.width, s.height, s.spp, s.seed);
     const out = {
       width: f.width, height: f.height, samples: f.samples,
       rgba: f.rgba(), heat: f.heat(), linear: f.linear(),
@@ -56,6 +55,9 @@ self.onmessage = async (e) => {
     const [result, transfer] = ops[op](...args);
     self.postMessage({ id, ok: true, result, ms: performance.now() - t0 }, transfer);
   } catch (err) {
-    self.postMessage({ id, ok: false, error: String(err && err.message ? err.message : err) });
+    // A trap (a Rust panic) may leave the instance broken: the page then
+    // starts a new worker.
+    const trap = err instanceof WebAssembly.RuntimeError;
+    self.postMessage({ id, ok: false, trap, error: String(err && err.message ? err.message : err) });
   }
 };

@@ -1,20 +1,21 @@
 //! The browser page's entry points (`web/`): thin `wasm-bindgen` wrappers
-//! over the runner's library — its golden table, scenes and samplers — so
-//! the page computes the very bits a native build computes, and nothing
-//! is copied. Each entry point is a plain Rust function (tested natively)
-//! and a wrapper that turns its error into a JavaScript `Error`.
+//! over the runner's library — its scenes, the command line's one check
+//! of render settings, the golden table, samplers and spectra — so the
+//! page computes the very bits a native build computes, and nothing is
+//! copied. Each entry point is a plain Rust function (tested natively)
+//! and a wrapper that turns its error into a JavaScript `Error` and
+//! checks the numbers JavaScript passes (whole, in range: refused, never
+//! wrapped).
 //!
-//! Built by `web/build.sh` for `wasm32-unknown-unknown`; there a render
-//! runs on the calling thread (the page, still to come, will call these
-//! from a Web Worker).
+//! Built by `web/build.sh` for `wasm32-unknown-unknown`, where the page's
+//! Web Workers call them; a render runs on the calling thread.
 
 #![forbid(unsafe_code)]
 
 use anyhow::{Result, anyhow, bail};
-use strata::filter::FilterKind;
 use strata::glam::{UVec2, Vec3};
-use strata::render::{Adaptive, PixelFilter, TextureFilter};
 use strata_runner::batch::AnySampler;
+use strata_runner::cli::library_render;
 use strata_runner::golden;
 use strata_runner::image_io::srgb_code;
 use strata_runner::job::{Job, SamplerKind, run};
@@ -22,8 +23,8 @@ use strata_runner::scenes::{BUILT_IN, built_in};
 use strata_runner::{plot, spectrum, study};
 use wasm_bindgen::prelude::*;
 
-/// The most samples [`sample_points`] draws (the page's patterns are to
-/// go up to 1024).
+/// The most samples [`sample_points`] and [`periodogram`] draw per pixel
+/// (the page's patterns go up to 1024).
 pub const MAX_POINTS: u32 = 4096;
 
 /// The most dimensions per sample [`sample_points`] draws.
@@ -117,19 +118,19 @@ pub fn sample_points(kind: &str, n: u32, seed: u64, dims: u32) -> Result<Vec<f32
     Ok(out)
 }
 
-/// [`sample_points`] for JavaScript (errors become `Error`s; `seed` is a
-/// `BigInt`). `n` and `dims` arrive as numbers, checked here: a
-/// fraction, a negative or a value past `u32` is refused, not wrapped.
+/// [`sample_points`] for JavaScript (errors become `Error`s). `n`,
+/// `dims` and `seed` arrive as numbers, checked here: a fraction, a
+/// negative or a value past `u32` (the seed: past 2⁵³) is refused, not
+/// wrapped.
 #[wasm_bindgen(js_name = samplePoints)]
-pub fn sample_points_js(kind: &str, n: f64, seed: u64, dims: f64) -> Result<Vec<f32>, JsError> {
-    sample_points(kind, whole(n, "n")?, seed, whole(dims, "dims")?).map_err(js_error)
+pub fn sample_points_js(kind: &str, n: f64, seed: f64, dims: f64) -> Result<Vec<f32>, JsError> {
+    sample_points(kind, whole(n, "n")?, seed_of(seed)?, whole(dims, "dims")?).map_err(js_error)
 }
 
-/// The most pixels a [`render`] takes.
-pub const MAX_PIXELS: u32 = 1 << 20;
-
-/// The most samples (pixels × samples per pixel) a [`render`] traces.
-pub const MAX_PATHS: u64 = 1 << 28;
+/// The most samples (pixels × samples per pixel, the most an adaptive
+/// render may take) a [`render`] traces: about a minute in the plain
+/// module, so a request cannot hold a worker for long.
+pub const MAX_PATHS: u64 = 1 << 25;
 
 /// What the page renders: a built-in scene at a size and samples per
 /// pixel, with a sampler, pixel filter, adaptive sampling or not, the
@@ -143,8 +144,8 @@ pub struct Settings {
     /// A pixel filter name (`box`, `tent`, `gaussian`, `mitchell`,
     /// `lanczos`) at its default radius.
     pub filter: String,
-    /// Adaptive sampling: a pilot of `spp / 4` (at least 8) samples, then
-    /// up to `spp` where the error asks for them.
+    /// Adaptive sampling: a pilot of `spp / 4` samples (at least 8, a
+    /// multiple of 4), then up to `spp` where the error asks for them.
     pub adaptive: bool,
     /// The box-filtered checker at camera rays' first hits.
     pub texture_box: bool,
@@ -220,58 +221,79 @@ impl Frame {
 }
 
 impl Settings {
-    /// The render job of these settings, once they are checked.
-    fn job<'a>(&self, scene: &'a strata_runner::scenes::SceneData) -> Result<Job<'a>> {
-        let sampler = SamplerKind::from_name(&self.sampler)?;
-        let kind = FilterKind::named(&self.filter)
-            .ok_or_else(|| anyhow!("unknown pixel filter {:?}", self.filter))?;
-        let filter = PixelFilter::new(kind, kind.default_radius())
-            .map_err(|e| anyhow!("filter {}: {e}", self.filter))?;
-        let pixels = u64::from(self.width) * u64::from(self.height);
-        if self.width == 0 || self.height == 0 || pixels > u64::from(MAX_PIXELS) {
-            bail!(
-                "{}x{} pixels: 1 to {MAX_PIXELS} pixels",
-                self.width,
-                self.height
-            );
+    /// These settings as the flags of `strata render`, which the runner
+    /// checks as it checks its command line ([`library_render`]).
+    #[must_use]
+    pub fn flags(&self) -> Vec<String> {
+        let mut flags: Vec<String> = [
+            "--scene",
+            &self.scene,
+            "--sampler",
+            &self.sampler,
+            "--filter",
+            &self.filter,
+            "--width",
+            &self.width.to_string(),
+            "--height",
+            &self.height.to_string(),
+            "--seed",
+            &self.seed.to_string(),
+        ]
+        .map(String::from)
+        .into();
+        if self.texture_box {
+            flags.extend(["--texture-filter", "box"].map(String::from));
         }
-        if self.spp == 0 || pixels * u64::from(self.spp) > MAX_PATHS {
-            bail!(
-                "{} samples per pixel: 1 to {MAX_PATHS} samples in all",
-                self.spp
+        if self.adaptive {
+            let min = ((self.spp / 4).max(8) / 4 * 4).to_string();
+            let max = self.spp.to_string();
+            let threshold = PAGE_ADAPTIVE_THRESHOLD.to_string();
+            flags.extend(
+                [
+                    "--adaptive",
+                    &threshold,
+                    "--min-spp",
+                    &min,
+                    "--max-spp",
+                    &max,
+                ]
+                .map(String::from),
             );
-        }
-        let adaptive = if self.adaptive {
-            let min = (self.spp / 4).max(8) / 4 * 4;
-            Some(
-                Adaptive::new(min, self.spp.max(min), PAGE_ADAPTIVE_THRESHOLD)
-                    .map_err(|e| anyhow!("adaptive: {e}"))?,
-            )
         } else {
-            None
-        };
-        let spp = adaptive.map_or(self.spp, |a| a.max());
-        Ok(Job {
-            sampler,
-            seed: self.seed,
+            flags.extend(["--spp".to_string(), self.spp.to_string()]);
+        }
+        flags
+    }
+
+    /// The render job of these settings on one thread, checked: the
+    /// command line's one check, a built-in scene, at most [`MAX_PATHS`]
+    /// samples.
+    fn job<'a>(&self, scene: &'a strata_runner::scenes::SceneData) -> Result<Job<'a>> {
+        let (args, _) = library_render(&self.flags())?;
+        let job = Job {
             threads: 1,
-            filter,
-            adaptive,
-            texture_filter: if self.texture_box {
-                TextureFilter::Box
-            } else {
-                TextureFilter::None
-            },
-            ..Job::new(scene, self.width, self.height, spp)
-        })
+            ..args.job(scene)?
+        };
+        let paths = u64::from(job.width) * u64::from(job.height) * u64::from(job.spp);
+        if paths > MAX_PATHS {
+            bail!(
+                "{}x{} pixels at {} samples: the page renders at most {MAX_PATHS} samples",
+                job.width,
+                job.height,
+                job.spp
+            );
+        }
+        Ok(job)
     }
 }
 
 /// Renders `settings` on the calling thread.
 ///
 /// # Errors
-/// An unknown scene, sampler or filter, a size or sample count out of
-/// range ([`MAX_PIXELS`], [`MAX_PATHS`]).
+/// A scene that is not built in, and whatever `strata render` refuses
+/// of these settings (an unknown sampler or filter, sizes and counts out
+/// of range, the grid sampler with adaptive sampling), or more than
+/// [`MAX_PATHS`] samples.
 ///
 /// ```
 /// use strata_web::{Settings, render};
@@ -285,6 +307,7 @@ impl Settings {
 /// assert!(render(&Settings { scene: "nope".into(), ..s }).is_err());
 /// ```
 pub fn render(settings: &Settings) -> Result<Frame> {
+    // Built-in only: a browser has no scene files.
     let scene = built_in(&settings.scene).ok_or_else(|| {
         anyhow!(
             "unknown scene {:?}: one of {}",
@@ -317,8 +340,8 @@ pub fn render(settings: &Settings) -> Result<Frame> {
     })
 }
 
-/// [`render`] for JavaScript (errors become `Error`s; `seed` is a
-/// `BigInt`, sizes and counts are checked whole numbers).
+/// [`render`] for JavaScript (errors become `Error`s; sizes, counts and
+/// the seed are checked whole numbers).
 #[wasm_bindgen(js_name = render)]
 #[allow(clippy::too_many_arguments)]
 pub fn render_js(
@@ -330,7 +353,7 @@ pub fn render_js(
     width: f64,
     height: f64,
     spp: f64,
-    seed: u64,
+    seed: f64,
 ) -> Result<Frame, JsError> {
     let settings = Settings {
         scene,
@@ -341,7 +364,7 @@ pub fn render_js(
         width: whole(width, "width")?,
         height: whole(height, "height")?,
         spp: whole(spp, "spp")?,
-        seed,
+        seed: seed_of(seed)?,
     };
     render(&settings).map_err(js_error)
 }
@@ -378,6 +401,10 @@ pub fn rmse_js(image: &[f32], reference: &[f32]) -> Result<f64, JsError> {
 
 /// The most pixels a [`periodogram`] averages.
 pub const MAX_SPECTRUM_PIXELS: u32 = 4096;
+
+/// The most terms (samples × pixels × frequencies) a [`periodogram`] sums:
+/// a few seconds in the plain module.
+pub const MAX_SPECTRUM_WORK: u64 = 1 << 30;
 
 /// An averaged periodogram of sample positions and its radial average.
 #[wasm_bindgen]
@@ -418,8 +445,8 @@ impl Periodogram {
 ///
 /// # Errors
 /// An unknown kind, `n` outside `1..=MAX_POINTS`, `pixels` outside
-/// `1..=MAX_SPECTRUM_PIXELS`, `r` outside `1..=128`, equal dimensions or
-/// one past 63.
+/// `1..=MAX_SPECTRUM_PIXELS`, `r` outside `1..=128`, more than
+/// [`MAX_SPECTRUM_WORK`] terms, equal dimensions or one past 63.
 ///
 /// ```
 /// // A 4 × 4 grid: all power at multiples of 4.
@@ -443,6 +470,13 @@ pub fn periodogram(
     if !(1..=MAX_SPECTRUM_PIXELS).contains(&pixels) {
         bail!("{pixels} pixels: the page averages 1 to {MAX_SPECTRUM_PIXELS}");
     }
+    let work = u64::from(n) * u64::from(pixels) * (2 * u64::from(r) + 1).pow(2);
+    if work > MAX_SPECTRUM_WORK {
+        bail!(
+            "{n} samples over {pixels} pixels up to frequency {r}: {work} terms, the page sums at \
+             most {MAX_SPECTRUM_WORK}"
+        );
+    }
     let s = spectrum::spectrum_of_dims(kind, n, seed, pixels, r, dims, &|_| {})?;
     Ok(Periodogram {
         r: s.r,
@@ -456,7 +490,7 @@ pub fn periodogram(
 pub fn periodogram_js(
     kind: &str,
     n: f64,
-    seed: u64,
+    seed: f64,
     dim_x: f64,
     dim_y: f64,
     pixels: f64,
@@ -465,7 +499,7 @@ pub fn periodogram_js(
     periodogram(
         kind,
         whole(n, "n")?,
-        seed,
+        seed_of(seed)?,
         [whole(dim_x, "dimX")?, whole(dim_y, "dimY")?],
         whole(pixels, "pixels")?,
         whole(r, "r")?,
@@ -481,6 +515,18 @@ fn whole(x: f64, what: &str) -> Result<u32, JsError> {
     } else {
         Err(JsError::new(&format!(
             "{what} must be a whole number from 0, not {x}"
+        )))
+    }
+}
+
+/// A seed from JavaScript (a number): a whole number from 0 to 2⁵³, the
+/// integers a number holds exactly; anything else is refused.
+fn seed_of(x: f64) -> Result<u64, JsError> {
+    if x.fract() == 0.0 && (0.0..=9_007_199_254_740_992.0).contains(&x) {
+        Ok(x as u64)
+    } else {
+        Err(JsError::new(&format!(
+            "seed must be a whole number from 0 to 2^53, not {x}"
         )))
     }
 }
@@ -645,8 +691,25 @@ mod tests {
                 ..settings()
             },
             Settings {
-                width: 2048,
-                height: 1024,
+                width: 20_000,
+                height: 1,
+                ..settings()
+            },
+            Settings {
+                width: 4096,
+                height: 4096,
+                ..settings()
+            },
+            Settings {
+                adaptive: true,
+                spp: 1 << 20,
+                ..settings()
+            },
+            // The command line's rules: the grid fills its rows in order.
+            Settings {
+                sampler: "grid".into(),
+                adaptive: true,
+                spp: 64,
                 ..settings()
             },
             Settings {
@@ -687,6 +750,8 @@ mod tests {
             ("sobol", 4, [0, 1], MAX_SPECTRUM_PIXELS + 1, 8),
             ("sobol", 4, [0, 1], 4, 0),
             ("sobol", 4, [0, 1], 4, 129),
+            // Each in range, too much work together.
+            ("sobol", MAX_POINTS, [0, 1], MAX_SPECTRUM_PIXELS, 128),
         ] {
             assert!(
                 periodogram(kind, n, 1, dims, pixels, r).is_err(),

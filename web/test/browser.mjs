@@ -2,15 +2,17 @@
 // puppeteer-core (no browser download). Serves web/dist from a local
 // server that counts the bytes it sends, then checks that the page
 //   - loads with no console error, failed request or uncaught exception,
-//   - computes the golden configuration's film hash equal to the row of
-//     std-runner/src/golden.rs (read from the source, not from the page),
-//     with the simd128 module and again with the plain one (`?simd=0`),
+//   - computes the golden configuration's film hash equal to the row the
+//     Rust tests export (std-runner/tests/data/golden.json, not the
+//     page's own table), with the simd128 module and again with the plain
+//     one (`?simd=0`),
 //   - redraws the sample pattern and its spectrum when the sampler changes,
-//   - draws the aliasing panel, the live passes and the error plot, and
-//     an adaptive sampling map once B turns adaptive,
-//   - downloads less than 2 MB in all.
+//   - draws the aliasing panel, the live passes and the error plot; when
+//     settings change mid-run, ends with the new run's passes, error plot
+//     and (B adaptive) a sampling map of more than one colour,
+//   - downloads less than 2 MB in all, with either module.
 // Screenshots go to target/web/. Reports (never judges) the first
-// contentful paint and the live panel's render speed.
+// contentful paint and the live panel's status lines.
 // Run by web/test.sh (after web/build.sh); CHROMIUM names the browser.
 import { createServer } from "node:http";
 import { readFile, mkdir } from "node:fs/promises";
@@ -25,11 +27,11 @@ await mkdir(shots, { recursive: true });
 const BUDGET = 2_000_000;
 const GOLDEN = ["week09", "sobol"];
 
-// The table's value, from the Rust source the native builds check.
-const source = await readFile(join(root, "std-runner/src/golden.rs"), "utf8");
-const row = source.match(new RegExp(`\\("${GOLDEN[0]}", "${GOLDEN[1]}", 0x([0-9a-f]{16})\\)`));
-if (!row) throw new Error(`no golden row ${GOLDEN.join(" ")} in golden.rs`);
-const want = row[1];
+// The table's value, as the Rust tests export it for the bindings.
+const exported = JSON.parse(await readFile(join(root, "std-runner/tests/data/golden.json"), "utf8"));
+const film = exported.films[GOLDEN.join("/")];
+if (!/^0x[0-9a-f]{16}$/.test(film ?? "")) throw new Error(`no golden row ${GOLDEN.join("/")} in golden.json`);
+const want = film.slice(2);
 
 const TYPES = {
   ".html": "text/html; charset=utf-8", ".js": "text/javascript", ".css": "text/css", ".gz": "application/gzip",
@@ -63,8 +65,9 @@ const check = (ok, what) => {
 const browser = await puppeteer.launch({
   executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
   headless: true,
-  // Chromium's sandbox refuses to run as root.
-  args: getuid?.() === 0 ? ["--no-sandbox"] : [],
+  // Chromium's sandbox refuses to run as root; a container's small
+  // /dev/shm can crash it on a full-page screenshot.
+  args: [...(getuid?.() === 0 ? ["--no-sandbox"] : []), "--disable-dev-shm-usage"],
 });
 const problems = [];
 async function open(query) {
@@ -118,11 +121,19 @@ try {
   await page.waitForFunction(() => document.getElementById("live").dataset.passes === "14" &&
     document.getElementById("live").dataset.plotted === "14", { timeout: 180_000 });
   check(true, `live: ${(await page.$$eval(".l-status", (e) => e.map((x) => x.textContent))).join(" | ")}`);
-  // Adaptive sampling on B: its passes (from 32 spp) and a map that is
-  // not one colour.
+  // Changes mid-run: B turns adaptive, then (before that run ends) the
+  // scene and the most samples change. The last settings' run ends: its
+  // passes (A: 1 to 16 spp; B adaptive: 8 and 16), its error plot
+  // against cover's reference, and a sampling map that is not one colour.
   await page.click("#side-b .l-adaptive");
-  await page.waitForFunction(() => document.getElementById("live").dataset.passes === "9",
-    { timeout: 180_000 });
+  await page.select("#l-scene", "cover");
+  await page.select("#l-max", "16");
+  const last = "cover 16 independent box false zsobol box true";
+  await page.waitForFunction((run) => {
+    const live = document.getElementById("live").dataset;
+    return live.run === run && live.passes === "7" && live.plotted === "7";
+  }, { timeout: 180_000 }, last);
+  check(true, `the last settings' run ended: ${last}`);
   const heat = await page.$eval("#side-b .l-heat", (c) => {
     const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
     const colours = new Set();
