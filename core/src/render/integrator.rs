@@ -563,7 +563,7 @@ pub(crate) fn differential_spacing(settings: &RenderSettings, spp: u32) -> f32 {
 /// Out of line: the common path without texture filtering keeps its one
 /// camera ray inlined.
 #[inline(never)]
-fn differentials(
+pub(crate) fn differentials(
     camera: &Camera,
     pixel: UVec2,
     offset: Vec2,

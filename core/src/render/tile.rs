@@ -12,7 +12,8 @@ use super::RenderSettings;
 use super::camera::Camera;
 use super::film::PixelSum;
 use super::integrator::{
-    CameraSample, Integrator, Scratch, TileStats, camera_ray, differential_spacing, trace_path,
+    CameraSample, Integrator, Scratch, TileStats, camera_ray, differential_spacing, differentials,
+    trace_path,
 };
 use super::lockstep::trace_lockstep;
 use super::scene::Scene;
@@ -423,7 +424,7 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         const NONE: [Option<[Ray; 2]>; 8] = [None; 8];
         let made: [Option<[Ray; 2]>; 8];
         let diff = if self.spacing > 0.0 {
-            made = core::array::from_fn(|k| self.differentials_of(ids, k, rays, offsets, lens));
+            made = core::array::from_fn(|k| self.differentials_of(ids, k, offsets, lens));
             &made
         } else {
             &NONE
@@ -441,29 +442,25 @@ impl<S: Sampler> Group<'_, '_, '_, S> {
         )
     }
 
-    /// The differential rays of lane `k` (pixel lane `ids[k]`), if any.
+    /// The differential rays of lane `k` (pixel lane `ids[k]`), if it is
+    /// one of `ids` (the caller checks that texture filtering wants them).
     #[inline(always)]
     fn differentials_of(
         &self,
         ids: &[usize],
         k: usize,
-        rays: &[Ray; 8],
         offsets: &[Vec2; 8],
         lens: &[Vec2; 8],
     ) -> Option<[Ray; 2]> {
         let &l = ids.get(k)?;
-        let c = CameraSample {
-            ray: rays[k],
-            offset: offsets[k],
-            // (Not read by the differentials.)
-            weight: 0.0,
-            lens: lens[k],
-        };
-        c.differentials(
+        let pixel = self.first + UVec2::new(l as u32, 0);
+        Some(differentials(
             self.camera,
-            self.first + UVec2::new(l as u32, 0),
+            pixel,
+            offsets[k],
+            lens[k],
             self.spacing,
-        )
+        ))
     }
 }
 
