@@ -56,6 +56,12 @@ const server = createServer(async (req, res) => {
 await new Promise((r) => server.listen(0, "127.0.0.1", r));
 const base = `http://127.0.0.1:${server.address().port}/`;
 
+// Whatever hangs, the test ends: 5 minutes in all (it takes about 20 s).
+setTimeout(() => {
+  console.log("FAILED: the browser test did not finish within 5 minutes");
+  exit(1);
+}, 300_000).unref();
+
 let failed = 0;
 const check = (ok, what) => {
   console.log(`${ok ? "ok" : "FAILED"}: ${what}`);
