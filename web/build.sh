@@ -30,9 +30,10 @@ mkdir -p web/dist
 # rebuild everything each time), both at once: each ends in a long
 # one-thread LTO step. With --target, RUSTFLAGS reaches only the module,
 # not build scripts.
+# `exec`: the PIDs below are cargo's, so a failure can stop the other.
 build() {
   RUSTFLAGS="$2" CARGO_TARGET_DIR=target/web-$1 \
-    cargo build --locked --quiet --profile web --target wasm32-unknown-unknown -p strata-web
+    exec cargo build --locked --quiet --profile web --target wasm32-unknown-unknown -p strata-web
 }
 build plain "" & plain=$!
 build simd128 "-C target-feature=+simd128" & simd=$!

@@ -68,6 +68,7 @@ function startWorker(module) {
   let pending = new Map();
   let next = 0;
   let ready = null;
+  let restarts = 0;
   const dropAll = (error) => {
     for (const p of pending.values()) p.reject(error);
     pending = new Map();
@@ -84,14 +85,17 @@ function startWorker(module) {
         pending.delete(m.id);
         if (m.ok) p.resolve(m);
         else p.reject(new Error(m.error));
-        // A trap may leave the instance broken: the next request gets a
-        // fresh one.
-        if (m.trap) restart();
+        // A trap may leave the instance broken: the requests behind it
+        // fail (they are not cancelled: their callers say so), the next
+        // ones get a fresh instance.
+        if (m.trap) restart(new Error(`the module trapped before this request: ${m.error}`));
       };
+      // A worker that died answers nothing more: fail what waits, start
+      // another for what follows.
       const broken = (what) => (e) => {
         const error = new Error(`${what}: ${e.message || "the worker failed"}`);
         reject(error);
-        dropAll(error);
+        restart(error);
       };
       w.onerror = broken("worker error");
       w.onmessageerror = broken("worker message error");
@@ -99,9 +103,12 @@ function startWorker(module) {
     ready.catch(() => {});
     w.postMessage({ type: "init", module });
   };
-  const restart = () => {
+  // Drops what the worker does: its requests fail with `why` (by default
+  // as cancelled, which callers ignore).
+  const restart = (why = new Cancelled("cancelled")) => {
+    restarts += 1;
     w.terminate();
-    dropAll(new Cancelled("cancelled"));
+    dropAll(why);
     spawn();
   };
   spawn();
@@ -111,6 +118,9 @@ function startWorker(module) {
     },
     get busy() {
       return pending.size > 0;
+    },
+    get restarts() {
+      return restarts;
     },
     restart,
     call(op, ...args) {
@@ -408,6 +418,9 @@ async function updateLive(render, quick, refWorker, gen) {
   let passes = 0;
   for (let spp = 1; spp <= max; spp *= 2) {
     for (const [k, s] of sides.entries()) {
+      // A newer run owns the panel (it restarted the worker only if a
+      // pass was in flight).
+      if (gen !== liveGen) return;
       const status = s.el.querySelector(".l-status");
       // Adaptive sampling needs a pilot of at least 8 samples.
       if (s.adaptive && spp < 8) {

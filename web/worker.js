@@ -55,9 +55,10 @@ self.onmessage = async (e) => {
     const [result, transfer] = ops[op](...args);
     self.postMessage({ id, ok: true, result, ms: performance.now() - t0 }, transfer);
   } catch (err) {
-    // A trap (a Rust panic) may leave the instance broken: the page then
-    // starts a new worker.
-    const trap = err instanceof WebAssembly.RuntimeError;
+    // A trap (a Rust panic) or a stack overflow (V8: a RangeError) may
+    // leave the instance broken: the page then starts a new worker. The
+    // module's own refusals are plain Errors.
+    const trap = err instanceof WebAssembly.RuntimeError || err instanceof RangeError;
     self.postMessage({ id, ok: false, trap, error: String(err && err.message ? err.message : err) });
   }
 };

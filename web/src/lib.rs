@@ -132,6 +132,11 @@ pub fn sample_points_js(kind: &str, n: f64, seed: f64, dims: f64) -> Result<Vec<
 /// module, so a request cannot hold a worker for long.
 pub const MAX_PATHS: u64 = 1 << 25;
 
+/// The most pixels a [`render`] takes: its film and images stay within
+/// about 150 MB of the module's memory (the command line's own cap, 2²⁵,
+/// would need about 4 GiB, all of wasm32's address space).
+pub const MAX_PIXELS: u64 = 1 << 20;
+
 /// What the page renders: a built-in scene at a size and samples per
 /// pixel, with a sampler, pixel filter, adaptive sampling or not, the
 /// prefiltered checker or not.
@@ -145,7 +150,8 @@ pub struct Settings {
     /// `lanczos`) at its default radius.
     pub filter: String,
     /// Adaptive sampling: a pilot of `spp / 4` samples (at least 8, a
-    /// multiple of 4), then up to `spp` where the error asks for them.
+    /// multiple of 4), then up to `spp` (at least the pilot) where the
+    /// error asks for them.
     pub adaptive: bool,
     /// The box-filtered checker at camera rays' first hits.
     pub texture_box: bool,
@@ -245,8 +251,9 @@ impl Settings {
             flags.extend(["--texture-filter", "box"].map(String::from));
         }
         if self.adaptive {
-            let min = ((self.spp / 4).max(8) / 4 * 4).to_string();
-            let max = self.spp.to_string();
+            let min = (self.spp / 4).max(8) / 4 * 4;
+            let max = self.spp.max(min).to_string();
+            let min = min.to_string();
             let threshold = PAGE_ADAPTIVE_THRESHOLD.to_string();
             flags.extend(
                 [
@@ -266,15 +273,23 @@ impl Settings {
     }
 
     /// The render job of these settings on one thread, checked: the
-    /// command line's one check, a built-in scene, at most [`MAX_PATHS`]
-    /// samples.
+    /// command line's one check, a built-in scene, at most
+    /// [`MAX_PIXELS`] pixels and [`MAX_PATHS`] samples.
     fn job<'a>(&self, scene: &'a strata_runner::scenes::SceneData) -> Result<Job<'a>> {
         let (args, _) = library_render(&self.flags())?;
         let job = Job {
             threads: 1,
             ..args.job(scene)?
         };
-        let paths = u64::from(job.width) * u64::from(job.height) * u64::from(job.spp);
+        let pixels = u64::from(job.width) * u64::from(job.height);
+        if pixels > MAX_PIXELS {
+            bail!(
+                "{}x{} pixels: the page renders at most {MAX_PIXELS} pixels",
+                job.width,
+                job.height
+            );
+        }
+        let paths = pixels * u64::from(job.spp);
         if paths > MAX_PATHS {
             bail!(
                 "{}x{} pixels at {} samples: the page renders at most {MAX_PATHS} samples",
@@ -293,7 +308,7 @@ impl Settings {
 /// A scene that is not built in, and whatever `strata render` refuses
 /// of these settings (an unknown sampler or filter, sizes and counts out
 /// of range, the grid sampler with adaptive sampling), or more than
-/// [`MAX_PATHS`] samples.
+/// [`MAX_PIXELS`] pixels or [`MAX_PATHS`] samples.
 ///
 /// ```
 /// use strata_web::{Settings, render};
@@ -402,8 +417,8 @@ pub fn rmse_js(image: &[f32], reference: &[f32]) -> Result<f64, JsError> {
 /// The most pixels a [`periodogram`] averages.
 pub const MAX_SPECTRUM_PIXELS: u32 = 4096;
 
-/// The most terms (samples × pixels × frequencies) a [`periodogram`] sums:
-/// a few seconds in the plain module.
+/// The most terms (samples × pixels × (frequencies + dimensions drawn)) a
+/// [`periodogram`] sums: a few seconds in the plain module.
 pub const MAX_SPECTRUM_WORK: u64 = 1 << 30;
 
 /// An averaged periodogram of sample positions and its radial average.
@@ -470,7 +485,9 @@ pub fn periodogram(
     if !(1..=MAX_SPECTRUM_PIXELS).contains(&pixels) {
         bail!("{pixels} pixels: the page averages 1 to {MAX_SPECTRUM_PIXELS}");
     }
-    let work = u64::from(n) * u64::from(pixels) * (2 * u64::from(r) + 1).pow(2);
+    // Per sample: the frequencies' terms and the values drawn for its row.
+    let row = u64::from(dims[0].max(dims[1])) + 1;
+    let work = u64::from(n) * u64::from(pixels) * ((2 * u64::from(r) + 1).pow(2) + row);
     if work > MAX_SPECTRUM_WORK {
         bail!(
             "{n} samples over {pixels} pixels up to frequency {r}: {work} terms, the page sums at \
@@ -673,6 +690,9 @@ mod tests {
         );
         let heat = f.heat();
         assert!(heat.chunks(4).any(|c| c != &heat[..4]), "a uniform map");
+        // Below the least pilot, the pilot's 8 samples are all there is.
+        let few = Settings { spp: 4, ..adaptive };
+        assert_eq!(render(&few).unwrap().samples(), 8.0 * pixels);
         for bad in [
             Settings {
                 scene: "materials".into(),
@@ -698,6 +718,13 @@ mod tests {
             Settings {
                 width: 4096,
                 height: 4096,
+                ..settings()
+            },
+            // Few samples, but more pixels than the module's memory holds.
+            Settings {
+                width: 8192,
+                height: 4096,
+                spp: 1,
                 ..settings()
             },
             Settings {
@@ -752,6 +779,7 @@ mod tests {
             ("sobol", 4, [0, 1], 4, 129),
             // Each in range, too much work together.
             ("sobol", MAX_POINTS, [0, 1], MAX_SPECTRUM_PIXELS, 128),
+            ("sobol", MAX_POINTS, [62, 63], MAX_SPECTRUM_PIXELS, 1),
         ] {
             assert!(
                 periodogram(kind, n, 1, dims, pixels, r).is_err(),

@@ -59,6 +59,7 @@ const base = `http://127.0.0.1:${server.address().port}/`;
 // Whatever hangs, the test ends: 5 minutes in all (it takes about 20 s).
 setTimeout(() => {
   console.log("FAILED: the browser test did not finish within 5 minutes");
+  if (problems.length) console.log(`  ${problems.join("\n  ")}`);
   exit(1);
 }, 300_000).unref();
 
@@ -140,6 +141,8 @@ try {
     return live.run === run && live.passes === "7" && live.plotted === "7";
   }, { timeout: 180_000 }, last);
   check(true, `the last settings' run ended: ${last}`);
+  const restarts = await page.evaluate(() => window.strata.render.restarts);
+  check(restarts >= 1, `a change during a pass restarted the render worker (${restarts} restarts)`);
   const heat = await page.$eval("#side-b .l-heat", (c) => {
     const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
     const colours = new Set();
