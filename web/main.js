@@ -558,4 +558,10 @@ async function main() {
   live();
 }
 
+// Side B: a copy of side A's controls and canvases, before anything draws.
+const sideB = $("side-a").cloneNode(true);
+sideB.id = "side-b";
+sideB.querySelector("h3").textContent = "B";
+$("side-a").after(sideB);
+
 main().catch((e) => fail("loading Strata's module", e));

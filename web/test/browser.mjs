@@ -14,11 +14,11 @@
 // Screenshots go to target/web/. Reports (never judges) the first
 // contentful paint and the live panel's status lines.
 // Run by web/test.sh (after web/build.sh); CHROMIUM names the browser.
-import { createServer } from "node:http";
 import { readFile, mkdir } from "node:fs/promises";
-import { extname, join, normalize } from "node:path";
+import { join } from "node:path";
 import { exit, getuid } from "node:process";
 import puppeteer from "puppeteer-core";
+import { serve } from "./serve.mjs";
 
 const root = new URL("../..", import.meta.url).pathname;
 const dist = join(root, "web/dist");
@@ -33,28 +33,8 @@ const film = exported.films[GOLDEN.join("/")];
 if (!/^0x[0-9a-f]{16}$/.test(film ?? "")) throw new Error(`no golden row ${GOLDEN.join("/")} in golden.json`);
 const want = film.slice(2);
 
-const TYPES = {
-  ".html": "text/html; charset=utf-8", ".js": "text/javascript", ".css": "text/css", ".gz": "application/gzip",
-};
-let served = 0;
-const server = createServer(async (req, res) => {
-  const path = normalize(decodeURIComponent(new URL(req.url, "http://x").pathname));
-  const file = join(dist, path.endsWith("/") ? `${path}index.html` : path);
-  try {
-    if (!file.startsWith(dist)) throw new Error("outside dist");
-    const body = await readFile(file);
-    served += body.length;
-    // No caching: every load counts its whole download.
-    res.writeHead(200, { "content-type": TYPES[extname(file)] ?? "application/octet-stream",
-      "content-length": body.length, "cache-control": "no-store" });
-    res.end(body);
-  } catch {
-    res.writeHead(404);
-    res.end();
-  }
-});
-await new Promise((r) => server.listen(0, "127.0.0.1", r));
-const base = `http://127.0.0.1:${server.address().port}/`;
+const server = await serve(dist);
+const base = server.base;
 
 // Whatever hangs, the test ends: 5 minutes in all (it takes about 20 s).
 setTimeout(() => {
@@ -84,7 +64,7 @@ async function open(query) {
   page.on("pageerror", (e) => problems.push(`exception: ${e.message}`));
   page.on("requestfailed", (r) => problems.push(`request failed: ${r.url()} (${r.failure()?.errorText})`));
   page.on("response", (r) => r.status() >= 400 && problems.push(`HTTP ${r.status()}: ${r.url()}`));
-  served = 0;
+  server.reset();
   await page.goto(base + query, { waitUntil: "load" });
   await page.waitForFunction(() => document.getElementById("module").dataset.state !== "loading",
     { timeout: 60_000 });
@@ -153,7 +133,7 @@ try {
   const fcp = await page.evaluate(() => performance.getEntriesByName("first-contentful-paint")[0]?.startTime);
   console.log(`first contentful paint: ${fcp?.toFixed(0)} ms (local server, cold cache)`);
   await page.screenshot({ path: join(shots, "page-simd128.png"), fullPage: true });
-  check(served < BUDGET, `the page downloaded ${served} bytes (budget ${BUDGET})`);
+  check(server.served() < BUDGET, `the page downloaded ${server.served()} bytes (budget ${BUDGET})`);
   await page.close();
 
   // The plain module (browsers without WebAssembly SIMD).
@@ -161,7 +141,7 @@ try {
   check(await plain.$eval("#module", (e) => e.dataset.simd) === "false", `plain: ${await text(plain, "#module")}`);
   await golden(plain, "plain");
   await plain.waitForFunction(() => document.getElementById("patterns").dataset.drawn, { timeout: 60_000 });
-  check(served < BUDGET, `the plain page downloaded ${served} bytes (budget ${BUDGET})`);
+  check(server.served() < BUDGET, `the plain page downloaded ${server.served()} bytes (budget ${BUDGET})`);
   await plain.screenshot({ path: join(shots, "page-plain.png") });
   await plain.close();
 } catch (e) {

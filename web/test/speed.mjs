@@ -9,32 +9,19 @@
 // build: RUSTFLAGS="-C target-cpu=x86-64" cargo build --release -p
 // strata-runner --target x86_64-unknown-linux-gnu. Needs web/dist (bash
 // web/build.sh) and web/test's packages (npm ci in web/test).
-import { createServer } from "node:http";
 import { readFile, mkdtemp } from "node:fs/promises";
 import { execFileSync } from "node:child_process";
-import { extname, join, normalize } from "node:path";
+import { join } from "node:path";
 import { tmpdir } from "node:os";
 import { argv, getuid } from "node:process";
 import puppeteer from "puppeteer-core";
+import { serve } from "./serve.mjs";
 
 const [native, rounds = "5", scene = "cover", width = "320", height = "180", spp = "16"] = argv.slice(2);
 if (!native) throw new Error("usage: node web/test/speed.mjs NATIVE_STRATA [ROUNDS] [SCENE] [WIDTH] [HEIGHT] [SPP]");
 const dist = new URL("../dist", import.meta.url).pathname;
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css" };
-const server = createServer(async (req, res) => {
-  const path = normalize(new URL(req.url, "http://x").pathname);
-  const file = join(dist, path.endsWith("/") ? `${path}index.html` : path);
-  try {
-    const body = await readFile(file);
-    res.writeHead(200, { "content-type": TYPES[extname(file)] ?? "application/octet-stream" });
-    res.end(body);
-  } catch {
-    res.writeHead(404);
-    res.end();
-  }
-});
-await new Promise((r) => server.listen(0, "127.0.0.1", r));
-const base = `http://127.0.0.1:${server.address().port}/`;
+const server = await serve(dist);
+const base = server.base;
 const browser = await puppeteer.launch({
   executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
   headless: true,
